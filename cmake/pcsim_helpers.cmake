@@ -1,0 +1,66 @@
+# Helpers shared by the component fragments.
+
+# pcsim_component(NAME name FORTRAN globs... BRIDGE globs... CXX globs... LINKS targets...)
+# Builds the static library pcsim_<name> from the files matching the globs (CONFIGURE_DEPENDS,
+# so a new file is picked up by the next build). Fortran modules go to a per-target directory.
+function(pcsim_component)
+  cmake_parse_arguments(C "" "NAME" "FORTRAN;BRIDGE;CXX;LINKS" ${ARGN})
+  set(srcs)
+  foreach(g IN LISTS C_FORTRAN C_BRIDGE C_CXX)
+    file(GLOB found CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/${g}")
+    list(APPEND srcs ${found})
+  endforeach()
+  if(NOT srcs)
+    message(STATUS "pcsim: component ${C_NAME} has no sources yet; skipped")
+    return()
+  endif()
+  add_library(pcsim_${C_NAME} STATIC ${srcs})
+  set_target_properties(pcsim_${C_NAME} PROPERTIES
+    Fortran_MODULE_DIRECTORY "${CMAKE_BINARY_DIR}/mod/${C_NAME}"
+    LINKER_LANGUAGE CXX)
+  target_include_directories(pcsim_${C_NAME} PUBLIC
+    "${PROJECT_SOURCE_DIR}/cpp" "${PROJECT_SOURCE_DIR}/bridge" "${CMAKE_BINARY_DIR}/mod/${C_NAME}")
+  target_link_libraries(pcsim_${C_NAME} PUBLIC ${C_LINKS})
+endfunction()
+
+# pcsim_boost_tests(DIR tests/huang LINKS pcsim_huang [LABELS ...])
+# Every tests/<dir>/test_*.cpp becomes one Boost.Test executable and one CTest test of the
+# same name, run from the source tree root so tests can read cases/ and tests/data/.
+function(pcsim_boost_tests)
+  cmake_parse_arguments(T "" "DIR" "LINKS;LABELS" ${ARGN})
+  foreach(l IN LISTS T_LINKS)
+    if(l MATCHES "^pcsim_" AND NOT TARGET ${l})
+      return()
+    endif()
+  endforeach()
+  file(GLOB files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/${T_DIR}/test_*.cpp")
+  foreach(f IN LISTS files)
+    get_filename_component(name "${f}" NAME_WE)
+    add_executable(${name} "${f}")
+    target_link_libraries(${name} PRIVATE ${T_LINKS} Boost::unit_test_framework)
+    target_compile_definitions(${name} PRIVATE BOOST_TEST_DYN_LINK
+      PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" PCSIM_BINARY_DIR="${CMAKE_BINARY_DIR}")
+    add_test(NAME ${name} COMMAND ${name} --log_level=test_suite --report_level=short
+             WORKING_DIRECTORY "${PROJECT_SOURCE_DIR}")
+    if(T_LABELS)
+      set_tests_properties(${name} PROPERTIES LABELS "${T_LABELS}")
+    endif()
+  endforeach()
+endfunction()
+
+# pcsim_benchmarks(DIR bench PREFIX bench_huang LINKS ...): bench/<prefix>*.cpp -> executables.
+function(pcsim_benchmarks)
+  cmake_parse_arguments(B "" "PREFIX" "LINKS" ${ARGN})
+  foreach(l IN LISTS B_LINKS)
+    if(l MATCHES "^pcsim_" AND NOT TARGET ${l})
+      return()
+    endif()
+  endforeach()
+  file(GLOB files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/bench/${B_PREFIX}*.cpp")
+  foreach(f IN LISTS files)
+    get_filename_component(name "${f}" NAME_WE)
+    add_executable(${name} "${f}")
+    target_link_libraries(${name} PRIVATE ${B_LINKS})
+    target_compile_definitions(${name} PRIVATE PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  endforeach()
+endfunction()
