@@ -1,0 +1,112 @@
+// The model author's interface: a mechanical system as a plain struct with templated scalar
+// functions, turned by make_model() into an immutable, type-erased pcsim::mech::Model whose
+// derivatives (M, h, g, g0, ġq̇ + ġ0) come from automatic differentiation.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace pcsim::mech {
+
+template <class S> using VecX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+
+enum class ConstraintKind {
+  holonomic,  ///< Φ_i(q, t) = 0; the engine derives g_i = ∂Φ_i/∂q, g0_i = ∂Φ_i/∂t
+  velocity,   ///< given directly as a row of g(q, t) q̇ + g0(q, t) = 0 (paper's form)
+};
+
+struct ConstraintInfo {
+  std::string name;
+  ConstraintKind kind = ConstraintKind::holonomic;
+  /// Promise: the row g_i does not depend on q or t (e.g. u = u0, s − rφ = c). When every
+  /// active row is constant, the engine computes the null-space basis D (Huang kernel) once per
+  /// run instead of once per right-hand side. The engine verifies the promise at the initial
+  /// state and at a perturbed state before integrating.
+  bool constant_row = false;
+};
+
+// ---- What a model author writes ---------------------------------------------------------------
+//
+//   struct MyModel {
+//     // required
+//     std::string name() const;
+//     std::vector<std::string> coordinates() const;                        // n names
+//     template <class S> S kinetic_energy(const VecX<S>& q, const VecX<S>& qd, const S& t) const;
+//     template <class S> S potential_energy(const VecX<S>& q, const S& t) const;
+//     // optional (detected; absent means "none")
+//     template <class S> S dissipation(const VecX<S>& q, const VecX<S>& qd, const S& t) const;
+//                                                            // Rayleigh F: Q gets −∂F/∂q̇
+//     template <class S> VecX<S> applied_forces(const VecX<S>& q, const VecX<S>& qd,
+//                                               const S& t) const;      // extra Q (size n)
+//     std::vector<ConstraintInfo> constraints() const;     // every constraint it offers
+//     template <class S> S holonomic(int i, const VecX<S>& q, const S& t) const;  // Φ_i
+//     template <class S> void velocity_form(int i, const VecX<S>& q, const S& t,
+//                                           VecX<S>& g_row, S& g0) const;  // row i (size n)
+//     std::vector<std::string> derived_names() const;      // e.g. {"fstar"}
+//     void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+//                  const Eigen::VectorXd& R, Eigen::VectorXd& out) const;  // out sized by you
+//   };
+//
+// i is the index into constraints(); holonomic() is called only for holonomic ones and
+// velocity_form() only for velocity ones. Q = −∂V/∂q − ∂F/∂q̇ + applied_forces.
+// T must be quadratic in q̇ (M = ∂²T/∂q̇² is then independent of q̇). S is double or an
+// Eigen AutoDiffScalar: write the functions with `using std::sin; sin(x)` style (ADL), no
+// branches on derivative values, and no static/global mutable state.
+// A model may have at most kMaxCoordinates coordinates (the AD types are small-buffer types).
+
+inline constexpr int kMaxCoordinates = 16;
+
+/// An immutable mechanical system, derived by automatic differentiation from a model struct.
+/// Thread-safe: every member is const and uses no shared mutable state.
+class Model {
+ public:
+  virtual ~Model() = default;
+
+  const std::string& name() const { return name_; }
+  int n() const { return static_cast<int>(coordinates_.size()); }
+  const std::vector<std::string>& coordinates() const { return coordinates_; }
+  const std::vector<ConstraintInfo>& constraints() const { return constraints_; }
+  const std::vector<std::string>& derived_names() const { return derived_names_; }
+  /// Index of the constraint with this name in constraints(), or -1.
+  int constraint_index(const std::string& constraint_name) const;
+
+  /// M = ∂²T/∂q̇² (n x n) and h (n): M q̈ + h = d/dt(∂T/∂q̇) − ∂T/∂q, i.e.
+  /// h = (∂²T/∂q̇∂q) q̇ + ∂²T/∂q̇∂t − ∂T/∂q. M and h must be sized n x n and n.
+  virtual void kinetic_terms(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                             Eigen::MatrixXd& M, Eigen::VectorXd& h) const = 0;
+
+  /// Q = −∂V/∂q − ∂F/∂q̇ + applied_forces (n), Q sized n.
+  virtual void forces(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                      Eigen::VectorXd& Q) const = 0;
+
+  /// Rows of the active constraints (indices into constraints()): g (s x n), g0 (s) with
+  /// g q̇ + g0 = 0, and gamma = ġ q̇ + ġ0 (s), the acceleration-level term: the constraint
+  /// differentiated once more in time reads g q̈ + gamma = 0. Outputs must be sized s x n, s, s.
+  virtual void constraint_rows(const std::vector<int>& active, double t, const Eigen::VectorXd& q,
+                               const Eigen::VectorXd& qd, Eigen::MatrixXd& g, Eigen::VectorXd& g0,
+                               Eigen::VectorXd& gamma) const = 0;
+
+  /// Φ_i(q, t) of constraint i (holonomic only; NaN for a velocity-form constraint).
+  virtual double position_residual(int i, double t, const Eigen::VectorXd& q) const = 0;
+
+  /// The model's derived quantities (size derived_names().size()) at a state with reactions R.
+  virtual void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                       const Eigen::VectorXd& R, Eigen::VectorXd& out) const = 0;
+
+ protected:
+  std::string name_;
+  std::vector<std::string> coordinates_;
+  std::vector<ConstraintInfo> constraints_;
+  std::vector<std::string> derived_names_;
+};
+
+/// Wraps a model struct (see above) into an immutable Model. The struct is copied in.
+/// Throws pcsim::InputError if the model has no coordinates or more than kMaxCoordinates.
+template <class Impl> std::shared_ptr<const Model> make_model(Impl impl);
+
+}  // namespace pcsim::mech
+
+#include "mech/detail/autodiff_model.hpp"  // the template definition of make_model

@@ -1,0 +1,143 @@
+// Simulation of a mechanical system by the principle of compatibility: reaction forces,
+// consistent initial values, the ODE and DAE forms on the Radau IIA integrator, drift control.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "common/kernel.hpp"
+#include "mech/model.hpp"
+#include "ode/radau.hpp"
+
+namespace pcsim::mech {
+
+enum class Form {
+  ode,  ///< y = (q, q̇); R computed inside the right-hand side
+  dae,  ///< y = (q, v, a, R), K = diag(I, I, 0, 0): q' = v, v' = a, 0 = M a + h − Q − R,
+        ///< 0 = [G; Dᵀ] R + [G0; 0]  (index 1 in a and R), as in the paper
+};
+enum class Stabilization {
+  none,        ///< acceleration-level constraints only: drift grows
+  projection,  ///< minimum-norm (Huang) correction of q and q̇ after every accepted step
+  baumgarte,   ///< g q̈ + γ + 2α (g q̇ + g0) + β² Φ = 0 instead of g q̈ + γ = 0
+};
+enum class ReactionMethod {
+  compatibility,    ///< [G; Dᵀ] R = [−G0; 0], D from the Huang kernel (the paper's method)
+  kkt,              ///< Lagrange multipliers: R = gᵀλ, (g M⁻¹ gᵀ) λ = −G0
+  udwadia_kalaba,   ///< R = M^{1/2} (g M^{-1/2})⁺ (−G0)
+};
+
+/// What went wrong with a model or constraint set, found before (or during) integration.
+enum class ModelIssue {
+  none,
+  unknown_constraint,        ///< an active constraint name the model does not offer
+  singular_mass_matrix,      ///< M not symmetric positive definite
+  dependent_constraints,     ///< an active row depends linearly on earlier ones (rank < s)
+  inconsistent_constraints,  ///< dependent rows whose right-hand sides contradict
+  non_finite,                ///< NaN or Inf in T's derivatives, Q, g, g0 or γ
+  not_constant_row,          ///< a row declared constant_row varies with q or t
+  kernel_failure,            ///< the Huang kernel returned an error
+};
+const char* to_string(ModelIssue issue);
+
+struct SimulationOptions {
+  Kernel kernel = Kernel::fortran;  ///< Huang and Radau kernel path
+  Form form = Form::ode;
+  double t0 = 0.0, t_end = 1.0;
+  double rtol = 1e-8, atol = 1e-8;
+  double h0 = 0.0;                  ///< 0: integrator default
+  double hmax = 0.0;                ///< 0: integrator default
+  long max_steps = 1000000;
+  std::vector<std::string> active_constraints;  ///< by name, in this order (rows of g)
+  Stabilization stabilization = Stabilization::projection;
+  double baumgarte_alpha = 10.0;    ///< 1/s
+  double baumgarte_beta = 10.0;     ///< 1/s
+  double projection_tol = 1e-13;    ///< Newton tolerance of the position projection (relative)
+};
+
+/// The state of the system at one time, with reactions and derived quantities consistent with it.
+struct Sample {
+  double t = 0.0;
+  Eigen::VectorXd q, qd, qdd, R, derived;
+  double residual_pos = 0.0;  ///< max |Φ_i(q, t)| over the active holonomic constraints
+  double residual_vel = 0.0;  ///< max |g q̇ + g0| over all active constraints
+};
+
+/// One accepted step [t_prev, t] as seen by a StepObserver. Valid only during the call.
+class StepView {
+ public:
+  double t_prev = 0.0;
+  double t = 0.0;
+  /// The state at s in [t_prev, t]: the integrator's dense output for q and q̇ (at s == t the
+  /// accepted — and, with projection, projected — state), with q̈, R and derived computed from it.
+  Sample at(double s) const;
+
+  // Internal: set by simulate().
+  const void* impl_ = nullptr;
+  Sample (*impl_at_)(const void* impl, double s) = nullptr;
+};
+
+/// Called once at t0 (t_prev == t == t0, the consistent initial state) and after every accepted
+/// step. Return false to stop (status stopped_by_callback).
+using StepObserver = std::function<bool(const StepView&)>;
+
+struct SimulationResult {
+  RadauStatus status = RadauStatus::bad_input;
+  ModelIssue issue = ModelIssue::none;  ///< the cause when the model or constraints are bad
+  std::string message;                  ///< human-readable reason on failure (names things)
+  double t = 0.0;                       ///< time reached
+  RadauStats stats;
+  double initial_correction_pos = 0.0;  ///< |Δq|₂ of the consistent-initial-value projection
+  double initial_correction_vel = 0.0;  ///< |Δq̇|₂
+  double residual_pos_max = 0.0;        ///< over the accepted steps (after projection if on)
+  double residual_vel_max = 0.0;
+  Eigen::VectorXd q_end, qd_end;
+};
+
+/// Integrates from (q0, qd0) at options.t0 to options.t_end. Never throws (exceptions thrown by
+/// the observer are reported as callback_error). Before integrating it checks the model at the
+/// initial state (mass matrix, finiteness, rank of the active constraints by name) and projects
+/// (q0, qd0) onto the active constraints (minimum-norm Huang correction).
+SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
+                          const Eigen::VectorXd& qd0, const SimulationOptions& options,
+                          const StepObserver& observer = {});
+
+/// Checks an active constraint set at a state: names resolve, M is SPD, everything is finite,
+/// rows are independent (Huang rank and row flags), constant_row promises hold.
+struct CheckResult {
+  ModelIssue issue = ModelIssue::none;
+  std::string message;  ///< names the constraints / coordinates involved
+  std::vector<int> active;  ///< the resolved indices into model.constraints()
+};
+CheckResult check_model(const Model& model, const std::vector<std::string>& active, double t,
+                        const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                        Kernel kernel = Kernel::fortran);
+
+struct ReactionResult {
+  ModelIssue issue = ModelIssue::none;
+  std::string message;
+  Eigen::VectorXd R;    ///< generalized reaction forces (n)
+  Eigen::VectorXd qdd;  ///< accelerations M⁻¹(Q − h + R)
+};
+/// Reactions and accelerations at one state, by one of the three formulations.
+ReactionResult reactions(const Model& model, const std::vector<std::string>& active, double t,
+                         const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         ReactionMethod method = ReactionMethod::compatibility,
+                         Kernel kernel = Kernel::fortran);
+
+/// Consistent initial values: the minimum-norm corrections of q (Newton on the holonomic Φ) and
+/// of q̇ (g q̇ + g0 = 0) onto the active constraints, by the Huang kernel.
+struct ProjectionResult {
+  ModelIssue issue = ModelIssue::none;
+  std::string message;
+  Eigen::VectorXd q, qd;
+  double correction_pos = 0.0, correction_vel = 0.0;  ///< |Δq|₂, |Δq̇|₂
+};
+ProjectionResult project_consistent(const Model& model, const std::vector<std::string>& active,
+                                    double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                    Kernel kernel = Kernel::fortran);
+
+}  // namespace pcsim::mech
