@@ -48,4 +48,24 @@ struct NullBasisResult {
 NullBasisResult huang_null_basis(const Eigen::MatrixXd& H, int rank,
                                  const HuangOptions& options = {});
 
+/// Reusable scratch storage for repeated calls on systems of the same size (the engine solves
+/// a small system per right-hand-side evaluation): with the overloads below, nothing is
+/// allocated after the first call of a given size.
+struct HuangWorkspace {
+  Eigen::VectorXd work;
+  std::vector<int> idep;
+};
+
+/// As huang_solve(A, b, x1, options), but writes into `result` (reusing its storage) and uses
+/// `workspace` for scratch. Returns result.info. Size mismatches are argument errors numbered as
+/// in the kernel: b.size() != A.rows() gives info = -6, x1.size() != A.cols() gives -7; a tol
+/// that is NaN or >= 1 gives -8.
+int huang_solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x1,
+                const HuangOptions& options, HuangWorkspace& workspace, HuangResult& result);
+
+/// As huang_null_basis(H, rank, options), reusing `result` and `workspace`. Returns result.info.
+/// A non-square H gives info = -3; rank outside [0, H.cols()] gives -2.
+int huang_null_basis(const Eigen::MatrixXd& H, int rank, const HuangOptions& options,
+                     HuangWorkspace& workspace, NullBasisResult& result);
+
 }  // namespace pcsim
