@@ -110,6 +110,7 @@
 *  RANK    (output) INTEGER
 *          The number of independent rows found, the numerical rank
 *          of A (of rows 1..INFO-1 if INFO > 0).  H has rank N - RANK.
+*          RANK <= min(M,N): when RANK reaches N, H is set to zero.
 *
 *  IDEP    (output) INTEGER array, dimension (M)
 *          IDEP(i) = 0: row i is independent of rows 1..i-1;
@@ -294,6 +295,18 @@
   150    CONTINUE
          RANK = RANK + 1
          IDEP( I ) = 0
+*
+*        N independent rows: null(A) = {0}, so H = 0 exactly (rounding
+*        would leave a residue of order EPS that could let a later row
+*        pass the dependence test and give RANK > N).
+*
+         IF( RANK.EQ.N ) THEN
+            DO 158 K = 1, N
+               DO 156 J = 1, N
+                  H( J, K ) = ZERO
+  156          CONTINUE
+  158       CONTINUE
+         END IF
          GO TO 200
 *
 *        Row i depends on rows 1..i-1: consistent or not.

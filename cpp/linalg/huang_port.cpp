@@ -102,6 +102,7 @@ int solve(int meth, int m, int n, const double* a, int lda, const double* b, dou
         }
         *rank += 1;
         idep[i] = 0;
+        if (*rank == n) H.setZero();  // null(A) = {0}: no rounding residue (see the Fortran)
         continue;
       }
     }
