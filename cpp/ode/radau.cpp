@@ -1,0 +1,317 @@
+// The public Radau IIA API: validates the problem and options, lays out the work arrays, runs
+// the Fortran kernel (through the bridge) or its C++ port with the same callbacks, and maps
+// IDID to RadauStatus with a message naming the time. Exceptions never reach the kernels: the
+// trampolines below catch everything and report an error code.
+#include "ode/radau.hpp"
+
+#include <climits>
+#include <cmath>
+#include <complex>
+#include <exception>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ode/radau_port.hpp"
+#include "pcsim_radau.h"
+
+namespace pcsim {
+
+const char* to_string(RadauStatus status) {
+  switch (status) {
+    case RadauStatus::success: return "success";
+    case RadauStatus::stopped_by_callback: return "stopped_by_callback";
+    case RadauStatus::bad_input: return "bad_input";
+    case RadauStatus::too_many_steps: return "too_many_steps";
+    case RadauStatus::step_too_small: return "step_too_small";
+    case RadauStatus::singular_matrix: return "singular_matrix";
+    case RadauStatus::callback_error: return "callback_error";
+  }
+  return "unknown";
+}
+
+void StepInfo::dense(double s, double* out) const { impl_dense_(impl_, s, out); }
+double StepInfo::dense(int i, double s) const { return impl_dense1_(impl_, i, s); }
+
+namespace {
+
+// What one integration shares with the trampolines (reached through the context pointer).
+struct CallContext {
+  const OdeProblem* problem = nullptr;
+  const StepCallback* on_step = nullptr;
+  Kernel kernel = Kernel::fortran;
+  std::string error;  // why a callback failed, for the message
+};
+
+// The step being reported, for StepInfo::dense.
+struct DenseImpl {
+  Kernel kernel;
+  int n;
+  const double* cont;
+  int ldc;
+  double told, tnew;
+};
+
+void dense_all(const void* impl, double s, double* out) {
+  const auto* d = static_cast<const DenseImpl*>(impl);
+  if (d->kernel == Kernel::fortran) {
+    int info = 0;
+    pcsim_radau_dense(d->n, s, d->told, d->tnew, d->cont, d->ldc, out, &info);
+  } else {
+    radau_port::dense(d->n, s, d->told, d->tnew, d->cont, d->ldc, out);
+  }
+}
+
+double dense_one(const void* impl, int i, double s) {
+  const auto* d = static_cast<const DenseImpl*>(impl);
+  double out = 0.0;
+  if (i < 0 || i >= d->n) return std::nan("");
+  if (d->kernel == Kernel::fortran) {
+    int info = 0;
+    pcsim_radau_dense(1, s, d->told, d->tnew, d->cont + i, d->ldc, &out, &info);
+  } else {
+    radau_port::dense(1, s, d->told, d->tnew, d->cont + i, d->ldc, &out);
+  }
+  return out;
+}
+
+std::string describe(const std::exception_ptr& e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const std::exception& ex) {
+    return ex.what();
+  } catch (...) {
+    return "unknown exception";
+  }
+}
+
+extern "C" void radau_fcn_trampoline(const int* /*n*/, const double* t, const double* y,
+                                     double* f, void* const* ctx, int* ierr) {
+  auto* c = static_cast<CallContext*>(*ctx);
+  try {
+    *ierr = c->problem->rhs(*t, y, f) ? 0 : 1;
+  } catch (...) {
+    c->error = "the right-hand side threw at t = " + std::to_string(*t) + ": " +
+               describe(std::current_exception());
+    *ierr = 2;
+  }
+}
+
+extern "C" void radau_jac_trampoline(const int* n, const double* t, const double* y, double* dfdy,
+                                     const int* ldj, void* const* ctx, int* ierr) {
+  auto* c = static_cast<CallContext*>(*ctx);
+  try {
+    if (*ldj == *n) {
+      c->problem->jacobian(*t, y, dfdy);
+    } else {  // never with the kernels (ldj = n); kept correct for any leading dimension
+      std::vector<double> tmp(std::size_t(*n) * std::size_t(*n));
+      c->problem->jacobian(*t, y, tmp.data());
+      for (int j = 0; j < *n; ++j)
+        for (int i = 0; i < *n; ++i) dfdy[i + std::size_t(*ldj) * j] = tmp[i + std::size_t(*n) * j];
+    }
+    *ierr = 0;
+  } catch (...) {
+    c->error = "the Jacobian threw at t = " + std::to_string(*t) + ": " +
+               describe(std::current_exception());
+    *ierr = 2;
+  }
+}
+
+extern "C" void radau_solout_trampoline(const int* n, const double* told, const double* t,
+                                        double* y, const double* cont, const int* ldc,
+                                        void* const* ctx, int* irtrn) {
+  auto* c = static_cast<CallContext*>(*ctx);
+  DenseImpl impl{c->kernel, *n, cont, *ldc, *told, *t};
+  StepInfo info;
+  info.t_prev = *told;
+  info.t = *t;
+  info.h = *t - *told;
+  info.n = *n;
+  info.y = y;
+  info.impl_ = &impl;
+  info.impl_dense_ = &dense_all;
+  info.impl_dense1_ = &dense_one;
+  try {
+    switch ((*c->on_step)(info)) {
+      case StepAction::proceed: *irtrn = 0; break;
+      case StepAction::state_modified: *irtrn = 1; break;
+      case StepAction::stop: *irtrn = 2; break;
+      default: *irtrn = 3; break;
+    }
+  } catch (...) {
+    c->error = "the step callback threw at t = " + std::to_string(*t) + ": " +
+               describe(std::current_exception());
+    *irtrn = 3;
+  }
+}
+
+// Stubs for callbacks the kernel never calls (jac with ijac = 0, solout with iout = 0): the
+// bridge needs valid procedure pointers.
+extern "C" void radau_jac_unused(const int*, const double*, const double*, double*, const int*,
+                                 void* const*, int* ierr) {
+  *ierr = 3;
+}
+extern "C" void radau_solout_unused(const int*, const double*, const double*, double*,
+                                    const double*, const int*, void* const*, int* irtrn) {
+  *irtrn = 0;
+}
+
+std::string at_time(double t) {
+  std::ostringstream s;
+  s.precision(17);
+  s << t;
+  return s.str();
+}
+
+RadauResult bad(const std::string& why) {
+  RadauResult r;
+  r.status = RadauStatus::bad_input;
+  r.message = "radau: bad input: " + why;
+  return r;
+}
+
+}  // namespace
+
+RadauResult radau_integrate(const OdeProblem& problem, double t0, const Eigen::VectorXd& y0,
+                            double t_end, const RadauOptions& options,
+                            const StepCallback& on_step) {
+  const int n = problem.n;
+  // ---- Validate (the kernels check again; this names the problem in words).
+  if (n <= 0) return bad("n = " + std::to_string(n) + ", expected n > 0");
+  if (!problem.rhs) return bad("no right-hand side (problem.rhs is empty)");
+  if (y0.size() != n)
+    return bad("y0 has " + std::to_string(y0.size()) + " entries, expected n = " +
+               std::to_string(n));
+  if (!y0.allFinite()) return bad("y0 is not finite");
+  if (problem.mass.size() != 0 && (problem.mass.rows() != n || problem.mass.cols() != n))
+    return bad("mass matrix is " + std::to_string(problem.mass.rows()) + " x " +
+               std::to_string(problem.mass.cols()) + ", expected " + std::to_string(n) + " x " +
+               std::to_string(n) + " or empty");
+  if (problem.mass.size() != 0 && !problem.mass.allFinite()) return bad("mass matrix not finite");
+  if (problem.index2_count < 0 || problem.index3_count < 0 ||
+      problem.index2_count + problem.index3_count > n)
+    return bad("index2_count/index3_count must be >= 0 with sum <= n");
+  if (!std::isfinite(t0) || !std::isfinite(t_end)) return bad("t0 and t_end must be finite");
+  const bool vec_tol = options.rtol_vec.size() != 0 || options.atol_vec.size() != 0;
+  Eigen::VectorXd rtol, atol;
+  if (vec_tol) {
+    rtol = options.rtol_vec.size() != 0 ? options.rtol_vec
+                                        : Eigen::VectorXd::Constant(n, options.rtol);
+    atol = options.atol_vec.size() != 0 ? options.atol_vec
+                                        : Eigen::VectorXd::Constant(n, options.atol);
+    if (rtol.size() != n || atol.size() != n)
+      return bad("rtol_vec/atol_vec must have n = " + std::to_string(n) + " entries");
+  } else {
+    rtol = Eigen::VectorXd::Constant(1, options.rtol);
+    atol = Eigen::VectorXd::Constant(1, options.atol);
+  }
+  for (Eigen::Index i = 0; i < rtol.size(); ++i)
+    if (!(rtol[i] > 0.0) || !std::isfinite(rtol[i]))
+      return bad("relative tolerances must be finite and > 0");
+  for (Eigen::Index i = 0; i < atol.size(); ++i)
+    if (!(atol[i] > 0.0) || !std::isfinite(atol[i]))
+      return bad("absolute tolerances must be finite and > 0");
+  if (!(options.h0 >= 0.0) || !std::isfinite(options.h0)) return bad("h0 must be >= 0");
+  if (!(options.hmax >= 0.0) || !std::isfinite(options.hmax)) return bad("hmax must be >= 0");
+  if (!(options.fixed_step >= 0.0) || !std::isfinite(options.fixed_step))
+    return bad("fixed_step must be >= 0");
+  if (options.max_steps <= 0) return bad("max_steps must be > 0");
+  if (options.max_newton <= 0) return bad("max_newton must be > 0");
+
+  // ---- Work arrays (layout: fortran/radau.f, RADIIA).
+  const int lwork = 20 + 19 * n + 2 * n * n;
+  const int lzwork = n * n + n;
+  const int liwork = 20 + 2 * n;
+  std::vector<double> work(std::size_t(lwork), 0.0);
+  std::vector<std::complex<double>> zwork(static_cast<std::size_t>(lzwork));
+  std::vector<int> iwork(std::size_t(liwork), 0);
+  work[0] = options.hmax;
+  work[1] = options.fixed_step;
+  iwork[0] = options.max_steps > INT_MAX ? INT_MAX : int(options.max_steps);
+  iwork[1] = options.max_newton;
+  iwork[2] = problem.index2_count;
+  iwork[3] = problem.index3_count;
+  iwork[4] = options.gustafsson ? 0 : 1;
+
+  const int ijac = problem.jacobian ? 1 : 0;
+  const int imas = problem.mass.size() != 0 ? 1 : 0;
+  const int itol = vec_tol ? 1 : 0;
+  const int iout = on_step ? 1 : 0;
+  const double one = 1.0;
+  const double* am = imas ? problem.mass.data() : &one;
+  const int ldm = imas ? n : 1;
+
+  CallContext ctx;
+  ctx.problem = &problem;
+  ctx.on_step = &on_step;
+  ctx.kernel = options.kernel;
+  pcsim_radau_jac jac = ijac ? &radau_jac_trampoline : &radau_jac_unused;
+  pcsim_radau_solout sol = iout ? &radau_solout_trampoline : &radau_solout_unused;
+
+  RadauResult r;
+  r.y = y0;
+  double t = t0;
+  double h = options.h0;
+  int idid = 0;
+  if (options.kernel == Kernel::fortran) {
+    pcsim_radau_integrate(&radau_fcn_trampoline, jac, sol, &ctx, ijac, imas, itol, iout, n, &t,
+                          t_end, r.y.data(), &h, rtol.data(), atol.data(), am, ldm, work.data(),
+                          lwork, reinterpret_cast<double*>(zwork.data()), lzwork, iwork.data(),
+                          liwork, &idid);
+  } else {
+    idid = radau_port::integrate(&radau_fcn_trampoline, jac, sol, &ctx, ijac, imas, itol, iout,
+                                 n, &t, t_end, r.y.data(), &h, rtol.data(), atol.data(), am, ldm,
+                                 work.data(), lwork, reinterpret_cast<double*>(zwork.data()),
+                                 lzwork, iwork.data(), liwork);
+  }
+
+  r.t = t;
+  r.h_last = h;
+  r.stats.f_evals = iwork[10];
+  r.stats.jacobians = iwork[11];
+  r.stats.lu_decompositions = iwork[12];
+  r.stats.linear_solves = iwork[13];
+  r.stats.steps = iwork[14];
+  r.stats.accepted = iwork[15];
+  r.stats.rejected = iwork[16];
+
+  const std::string where = std::string("radau (") + to_string(options.kernel) + ")";
+  switch (idid) {
+    case 0: r.status = RadauStatus::success; break;
+    case 1:
+      r.status = RadauStatus::stopped_by_callback;
+      r.message = where + ": stopped by the step callback at t = " + at_time(t);
+      break;
+    case 2:
+      r.status = RadauStatus::too_many_steps;
+      r.message = where + ": more than " + std::to_string(iwork[0]) + " steps, at t = " +
+                  at_time(t);
+      break;
+    case 3:
+      r.status = RadauStatus::step_too_small;
+      r.message = where + (options.fixed_step > 0.0
+                               ? ": Newton iteration did not converge with the fixed step"
+                               : ": step size too small") +
+                  " at t = " + at_time(t) + " (h = " + at_time(h) + ")";
+      break;
+    case 4:
+      r.status = RadauStatus::singular_matrix;
+      r.message = where + ": iteration matrix repeatedly singular at t = " + at_time(t);
+      break;
+    case 5:
+      r.status = RadauStatus::callback_error;
+      r.message = where + ": " +
+                  (ctx.error.empty()
+                       ? "the right-hand side could not be evaluated at the accepted state t = " +
+                             at_time(t)
+                       : ctx.error);
+      break;
+    default:
+      r.status = RadauStatus::bad_input;
+      r.message = where + ": argument " + std::to_string(-idid) + " of the kernel is invalid";
+      break;
+  }
+  return r;
+}
+
+}  // namespace pcsim

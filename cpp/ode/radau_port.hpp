@@ -1,0 +1,27 @@
+// The C++ (Eigen) port of the Radau IIA kernel RADIIA of fortran/radau.f: same arguments, same
+// argument checks (IDID = -i for the same i), same option and statistics slots, same algorithm
+// and decisions, so both kernels take the same steps.
+#pragma once
+
+#include "pcsim_radau.h"
+
+namespace pcsim::radau_port {
+
+/// Port of RADIIA (see its header in fortran/radau.f and bridge/pcsim_radau.h for every
+/// argument). zwork holds complex numbers as interleaved (re, im) pairs, lzwork of them.
+/// Differences to the Fortran kernel: the LU decompositions are Eigen::PartialPivLU (real and
+/// complex) instead of DGETRF/ZGETRF, and K v products are Eigen's; results agree to rounding.
+/// Returns IDID.
+int integrate(pcsim_radau_fcn fcn, pcsim_radau_jac jac, pcsim_radau_solout solout, void* ctx,
+              int ijac, int imas, int itol, int iout, int n, double* t, double tend, double* y,
+              double* h, const double* rtol, const double* atol, const double* am, int ldm,
+              double* work, int lwork, double* zwork, int lzwork, int* iwork, int liwork);
+
+/// Port of RADDEN: the dense output of the step [told, tnew] at t. Returns INFO.
+int dense(int n, double t, double told, double tnew, const double* cont, int ldc, double* yout);
+
+/// Port of RADCOE: c[3], t[3x3], ti[3x3] column-major, dd[3], gam, alp, bet.
+void coefficients(double* c, double* t, double* ti, double* dd, double* gam, double* alp,
+                  double* bet);
+
+}  // namespace pcsim::radau_port
