@@ -39,9 +39,18 @@
 *     u_i = H_i a_i
 *     if ||u_i|| <= TOL * ||a_i||, row i is linearly dependent on rows
 *        1..i-1 (it lies, to the tolerance, in their span).  It is then
-*        consistent if |a_i' x_i - b_i| <= TOL*(||a_i|| ||x_i|| + |b_i|)
+*        consistent if
+*           |a_i' x_i - b_i| <= TOL * (G_i ||a_i|| ||x_i|| + |b_i|)
 *        and skipped (H_{i+1} = H_i, x_{i+1} = x_i); otherwise the
 *        system is inconsistent and the routine returns INFO = i.
+*        G_i = 1 + sum over the independent rows k < i of
+*        ||a_k|| / |a_k' q_k| = 1 + sum 1/sin(angle between a_k and the
+*        span of the rows before it): a running estimate of how much
+*        the rounding errors of the earlier steps are amplified in x_i
+*        (each step divides a residual by a_k' q_k).  Without it, a
+*        consistent system whose leading rows are ill conditioned (a
+*        tall Vandermonde fit) would be declared inconsistent because
+*        of rounding alone.
 *     else
 *        p_i = H_i u_i = H_i (H_i a_i)   (modified Huang, METH = 0, 1)
 *        p_i = u_i     = H_i a_i         (plain Huang, METH = 2)
@@ -93,7 +102,8 @@
 *          ||H_i a_i|| <= TOL*||a_i||, i.e. when the sine of the angle
 *          between a_i and the span of the previous rows is <= TOL;
 *          the test is invariant under scaling of row i.  The same TOL,
-*          relative to ||a_i|| ||x_i|| + |b_i|, decides consistency.
+*          relative to G_i ||a_i|| ||x_i|| + |b_i| (see Mathematics),
+*          decides the consistency of a dependent row.
 *          If TOL <= 0, the default TOL = 100 * max(M,N) * EPS is used,
 *          EPS = DLAMCH('P') = 2**(-52): a small multiple of the
 *          rounding error of a product H_i a_i of length max(M,N).
@@ -161,8 +171,8 @@
 *     .. Local Scalars ..
       LOGICAL            MODIF
       INTEGER            I, J, K, MINWRK
-      DOUBLE PRECISION   ALPHA, ANRM, C, PNRM, R, STEP, TOLD, UNRM,
-     $                   XNRM
+      DOUBLE PRECISION   ALPHA, ANRM, C, GROW, PNRM, R, STEP, TOLD,
+     $                   UNRM, XNRM
 *     ..
 *     .. External Functions ..
       DOUBLE PRECISION   DLAMCH, PCHNRM
@@ -216,6 +226,7 @@
          IDEP( I ) = -1
    30 CONTINUE
       RANK = 0
+      GROW = ONE
 *
       DO 200 I = 1, M
 *
@@ -293,6 +304,7 @@
                H( J, K ) = H( J, K ) - WORK( N+J )*WORK( N+K )
   140       CONTINUE
   150    CONTINUE
+         GROW = GROW + ANRM / ABS( ALPHA )
          RANK = RANK + 1
          IDEP( I ) = 0
 *
@@ -313,7 +325,7 @@
 *
   160    CONTINUE
          XNRM = PCHNRM( N, X, 1 )
-         IF( ABS( R ).GT.TOLD*( ANRM*XNRM+ABS( B( I ) ) ) ) THEN
+         IF( ABS( R ).GT.TOLD*( GROW*ANRM*XNRM+ABS( B( I ) ) ) ) THEN
             IDEP( I ) = 2
             INFO = I
             RETURN

@@ -1,7 +1,9 @@
-// C++ port of fortran/huang.f. The arithmetic is written as explicit loops in the Fortran's order
-// (column-oriented products, left-to-right sums) over Eigen maps of the caller's arrays, so both
-// paths round identically in practice; Eigen's vectorized GEMV would reorder the sums. The
-// documentation of the mathematics and of every argument is in the Fortran headers.
+// C++ port of fortran/huang.f on Eigen maps of the caller's arrays. Element-wise operations
+// (axpy, scaling, rank-one updates) are Eigen column expressions, which vectorize and round
+// exactly like the Fortran loops; reductions (dot products, norms) are explicit left-to-right
+// loops, because Eigen's vectorized reductions and GEMV would reorder the sums. So both paths
+// round identically in practice. The mathematics and every argument are documented in the
+// Fortran headers.
 #include "linalg/huang_port.hpp"
 
 #include <algorithm>
@@ -55,18 +57,17 @@ int solve(int meth, int m, int n, const double* a, int lda, const double* b, dou
   Mat H(h, n, n, Eigen::OuterStride<>(ldh));
   double* u = work;
   double* p = work + n;
+  Eigen::Map<Eigen::VectorXd> U(u, n), P(p, n), X(x, n);
 
   H.setIdentity();
   for (int i = 0; i < m; ++i) idep[i] = -1;
   *rank = 0;
+  double grow = 1.0;  // G_i: the error-amplification estimate of the consistency test
 
   for (int i = 0; i < m; ++i) {
     // u = H a_i, column by column of H.
-    for (int j = 0; j < n; ++j) u[j] = 0.0;
-    for (int k = 0; k < n; ++k) {
-      const double c = A(i, k);
-      for (int j = 0; j < n; ++j) u[j] = u[j] + H(j, k) * c;
-    }
+    U.setZero();
+    for (int k = 0; k < n; ++k) U += H.col(k) * A(i, k);
     const double anrm = n > 0 ? norm2(n, &a[i], lda) : 0.0;
     const double unrm = norm2(n, u, 1);
     double r = 0.0;
@@ -77,29 +78,22 @@ int solve(int meth, int m, int n, const double* a, int lda, const double* b, dou
     if (!dependent) {
       // p = H u (modified) or u (plain).
       if (modif) {
-        for (int j = 0; j < n; ++j) p[j] = 0.0;
-        for (int k = 0; k < n; ++k) {
-          const double c = u[k];
-          for (int j = 0; j < n; ++j) p[j] = p[j] + H(j, k) * c;
-        }
+        P.setZero();
+        for (int k = 0; k < n; ++k) P += H.col(k) * u[k];
       } else {
-        for (int j = 0; j < n; ++j) p[j] = u[j];
+        P = U;
       }
       const double pnrm = norm2(n, p, 1);
       double alpha = 0.0;
       if (pnrm != 0.0) {
-        for (int j = 0; j < n; ++j) {
-          p[j] = p[j] / pnrm;
-          alpha = alpha + A(i, j) * p[j];
-        }
+        P /= pnrm;
+        for (int j = 0; j < n; ++j) alpha = alpha + A(i, j) * p[j];
       }
       dependent = pnrm == 0.0 || alpha == 0.0;
       if (!dependent) {
-        const double step = r / alpha;
-        for (int j = 0; j < n; ++j) x[j] = x[j] - step * p[j];
-        for (int k = 0; k < n; ++k) {
-          for (int j = 0; j < n; ++j) H(j, k) = H(j, k) - p[j] * p[k];
-        }
+        X -= (r / alpha) * P;
+        for (int k = 0; k < n; ++k) H.col(k) -= P * p[k];
+        grow = grow + anrm / std::abs(alpha);
         *rank += 1;
         idep[i] = 0;
         if (*rank == n) H.setZero();  // null(A) = {0}: no rounding residue (see the Fortran)
@@ -108,7 +102,7 @@ int solve(int meth, int m, int n, const double* a, int lda, const double* b, dou
     }
     // Row i depends on rows 0..i-1: consistent or not.
     const double xnrm = norm2(n, x, 1);
-    if (std::abs(r) > told * (anrm * xnrm + std::abs(b[i]))) {
+    if (std::abs(r) > told * (grow * anrm * xnrm + std::abs(b[i]))) {
       idep[i] = 2;
       return i + 1;
     }
@@ -150,22 +144,21 @@ int null_basis(int n, int rank, const double* h, int ldh, double* d, int ldd, do
       if (wnorm[j] >= 0.5 * wmax) jk = j;
     }
     // d = W(:,jk) / ||W(:,jk)||, re-orthogonalized once against D(:,0:k-1), normalized again.
-    for (int l = 0; l < n; ++l) D(l, k) = W(l, jk) / wnorm[jk];
+    D.col(k) = W.col(jk) / wnorm[jk];
     for (int j = 0; j < k; ++j) {
       double c = 0.0;
       for (int l = 0; l < n; ++l) c = c + D(l, j) * D(l, k);
-      for (int l = 0; l < n; ++l) D(l, k) = D(l, k) - c * D(l, j);
+      D.col(k) -= c * D.col(j);
     }
-    const double dnrm = norm2(n, &D(0, k), 1);
-    for (int l = 0; l < n; ++l) D(l, k) = D(l, k) / dnrm;
+    D.col(k) /= norm2(n, &D(0, k), 1);
     // W <- W - d (d' W); the pivot column is set to zero exactly.
     for (int j = 0; j < n; ++j) {
       if (j == jk) {
-        for (int l = 0; l < n; ++l) W(l, j) = 0.0;
+        W.col(j).setZero();
       } else {
         double c = 0.0;
         for (int l = 0; l < n; ++l) c = c + D(l, k) * W(l, j);
-        for (int l = 0; l < n; ++l) W(l, j) = W(l, j) - c * D(l, k);
+        W.col(j) -= c * D.col(k);
       }
     }
   }
