@@ -1,0 +1,297 @@
+#include "mech/dynamics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
+#include "linalg/huang.hpp"
+
+namespace pcsim::mech {
+
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+std::string coordinate_list(const Model& model, const Eigen::VectorXd& v, double threshold) {
+  std::string out;
+  for (int i = 0; i < v.size() && i < model.n(); ++i) {
+    if (!(std::abs(v[i]) <= threshold)) {  // also catches NaN
+      if (!out.empty()) out += ", ";
+      out += "'" + model.coordinates()[i] + "'";
+    }
+  }
+  return out;
+}
+
+Dynamics::Dynamics(const Model& model, std::vector<int> active, Kernel kernel,
+                   Stabilization stabilization, double alpha, double beta)
+    : model_(&model),
+      active_(std::move(active)),
+      kernel_(kernel),
+      stabilization_(stabilization),
+      alpha_(alpha),
+      beta_(beta),
+      n_(model.n()),
+      s_(static_cast<int>(active_.size())),
+      constant_rows_(true) {
+  for (int i : active_) constant_rows_ = constant_rows_ && model.constraints()[i].constant_row;
+  M.resize(n_, n_);
+  g.resize(s_, n_);
+  G.resize(s_, n_);
+  A.resize(n_, n_);
+  h.resize(n_);
+  Q.resize(n_);
+  f.resize(n_);
+  g0.resize(s_);
+  gamma.resize(s_);
+  G0.resize(s_);
+  R.resize(n_);
+  qdd.resize(n_);
+  q_.resize(n_);
+  qd_.resize(n_);
+  llt_ = Eigen::LLT<Eigen::MatrixXd>(n_);
+  lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n_);
+  MinvgT_.resize(n_, s_);
+  a0_.resize(n_);
+  rhs_.resize(n_);
+  tmp_.resize(n_);
+}
+
+ModelIssue Dynamics::fail(ModelIssue issue, std::string message) {
+  message_ = std::move(message);
+  return issue;
+}
+
+ModelIssue Dynamics::evaluate(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  t_ = t;
+  q_ = q;
+  qd_ = qd;
+  model_->kinetic_terms(t, q, qd, M, h);
+  model_->forces(t, q, qd, Q);
+  if (s_ > 0) model_->constraint_rows(active_, t, q, qd, g, g0, gamma);
+  const std::string at = " at t = " + fmt(t);
+  if (!M.allFinite()) {
+    Eigen::VectorXd bad = M.rowwise().sum();
+    return fail(ModelIssue::non_finite, "the mass matrix M = d2T/dqd2 is not finite" + at +
+                                            " (rows of " + coordinate_list(*model_, bad, INFINITY) +
+                                            ")");
+  }
+  if (!h.allFinite()) {
+    return fail(ModelIssue::non_finite, "the velocity terms h of the kinetic energy are not finite" +
+                                            at + " (coordinate " +
+                                            coordinate_list(*model_, h, INFINITY) + ")");
+  }
+  if (!Q.allFinite()) {
+    return fail(ModelIssue::non_finite,
+                "the generalized forces Q (-dV/dq - dF/dqd + applied) are not finite" + at +
+                    " (coordinate " + coordinate_list(*model_, Q, INFINITY) + ")");
+  }
+  for (int r = 0; r < s_; ++r) {
+    if (!g.row(r).allFinite() || !std::isfinite(g0[r]) || !std::isfinite(gamma[r])) {
+      return fail(ModelIssue::non_finite, "constraint '" + model_->constraints()[active_[r]].name +
+                                              "' gives a non-finite row g, g0 or gamma" + at);
+    }
+  }
+  if (stabilization_ == Stabilization::baumgarte && s_ > 0) {
+    gamma.noalias() += 2.0 * alpha_ * (g * qd);
+    gamma += 2.0 * alpha_ * g0;
+    for (int r = 0; r < s_; ++r) {
+      if (model_->constraints()[active_[r]].kind == ConstraintKind::holonomic) {
+        gamma[r] += beta_ * beta_ * model_->position_residual(active_[r], t, q);
+      }
+    }
+  }
+  f = Q - h;
+  return ModelIssue::none;
+}
+
+ModelIssue Dynamics::factorize_mass() {
+  llt_.compute(M);
+  bool ok = llt_.info() == Eigen::Success;
+  if (ok) {
+    // LLT accepts tiny positive pivots; demand a condition-like margin (the pivot ratio).
+    const Eigen::VectorXd d = llt_.matrixLLT().diagonal().cwiseAbs2();
+    ok = d.minCoeff() > 1e-13 * d.maxCoeff();
+  }
+  if (ok) return ModelIssue::none;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(M);
+  std::string who;
+  if (es.info() == Eigen::Success) {
+    const Eigen::VectorXd v = es.eigenvectors().col(0);
+    who = " (its null direction involves coordinate " + coordinate_list(*model_, v, 0.1) +
+          "; smallest eigenvalue " + fmt(es.eigenvalues()[0]) + ", largest " +
+          fmt(es.eigenvalues()[n_ - 1]) + ")";
+  }
+  return fail(ModelIssue::singular_mass_matrix,
+              "the mass matrix M = d2T/dqd2 is singular or not positive definite at t = " +
+                  fmt(t_) + who + ": every coordinate needs inertia");
+}
+
+ModelIssue Dynamics::null_basis() {
+  if (have_D_ && constant_rows_) return ModelIssue::none;
+  HuangOptions ho;
+  ho.kernel = kernel_;
+  const HuangResult hr = huang_solve(g, Eigen::VectorXd::Zero(s_), ho);
+  if (hr.info < 0) {
+    return fail(ModelIssue::kernel_failure,
+                "the Huang kernel rejected argument " + std::to_string(-hr.info));
+  }
+  if (hr.rank < s_) {
+    std::string names;
+    for (int r = 0; r < s_ && r < static_cast<int>(hr.row_dependent.size()); ++r) {
+      if (hr.row_dependent[r]) {
+        names += (names.empty() ? "'" : ", '") + model_->constraints()[active_[r]].name + "'";
+      }
+    }
+    return fail(ModelIssue::dependent_constraints,
+                "the active constraints are linearly dependent at t = " + fmt(t_) + ": " + names +
+                    " depend on the constraints before them (rank " + std::to_string(hr.rank) +
+                    " < " + std::to_string(s_) + ")");
+  }
+  const NullBasisResult nb = huang_null_basis(hr.H, hr.rank, ho);
+  if (nb.info != 0 || nb.D.cols() != n_ - s_ || nb.D.rows() != n_) {
+    return fail(ModelIssue::kernel_failure, "the Huang null-space basis failed (info " +
+                                                std::to_string(nb.info) + ")");
+  }
+  D = nb.D;
+  have_D_ = true;
+  return ModelIssue::none;
+}
+
+ModelIssue Dynamics::prepare_compatibility() {
+  if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
+  a0_ = llt_.solve(f);
+  if (s_ == 0) return ModelIssue::none;
+  if (ModelIssue e = null_basis(); e != ModelIssue::none) return e;
+  MinvgT_ = llt_.solve(g.transpose());
+  G = MinvgT_.transpose();  // g M⁻¹ (M symmetric)
+  G0.noalias() = g * a0_;
+  G0 += gamma;
+  return ModelIssue::none;
+}
+
+ModelIssue Dynamics::solve_compatibility() {
+  if (ModelIssue e = prepare_compatibility(); e != ModelIssue::none) return e;
+  if (s_ == 0) {
+    R.setZero();
+    qdd = a0_;
+    return ModelIssue::none;
+  }
+  A.topRows(s_) = G;
+  A.bottomRows(n_ - s_) = D.transpose();
+  rhs_.head(s_) = -G0;
+  rhs_.tail(n_ - s_).setZero();
+  lu_.compute(A);
+  R = lu_.solve(rhs_);
+  tmp_ = f + R;
+  qdd = llt_.solve(tmp_);
+  if (!R.allFinite() || !qdd.allFinite()) {
+    return fail(ModelIssue::dependent_constraints,
+                "the compatibility system [G; D^T] R = [-G0; 0] is singular at t = " + fmt(t_));
+  }
+  return ModelIssue::none;
+}
+
+ModelIssue Dynamics::solve_kkt() {
+  // [M  gᵀ] [q̈]   [ f ]
+  // [g  0 ] [μ ] = [−γ ],   R = −gᵀμ (μ = −λ): the Lagrange-multiplier formulation.
+  if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n_ + s_, n_ + s_);
+  K.topLeftCorner(n_, n_) = M;
+  K.topRightCorner(n_, s_) = g.transpose();
+  K.bottomLeftCorner(s_, n_) = g;
+  Eigen::VectorXd b(n_ + s_);
+  b << f, -gamma;
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(K);
+  if (!lu.isInvertible()) {
+    return fail(ModelIssue::dependent_constraints, "the KKT matrix is singular at t = " + fmt(t_));
+  }
+  const Eigen::VectorXd x = lu.solve(b);
+  qdd = x.head(n_);
+  R = -(g.transpose() * x.tail(s_));
+  return ModelIssue::none;
+}
+
+ModelIssue Dynamics::solve_udwadia_kalaba() {
+  // q̈ = a + M^{-1/2} (g M^{-1/2})⁺ (−γ − g a),  a = M⁻¹ f,  R = M (q̈ − a).
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(M);
+  if (es.info() != Eigen::Success || !(es.eigenvalues()[0] > 1e-13 * es.eigenvalues()[n_ - 1])) {
+    return factorize_mass() == ModelIssue::none
+               ? fail(ModelIssue::singular_mass_matrix, "M is not positive definite")
+               : ModelIssue::singular_mass_matrix;
+  }
+  const Eigen::MatrixXd Mhalf = es.operatorSqrt();
+  const Eigen::MatrixXd Minvhalf = es.operatorInverseSqrt();
+  const Eigen::VectorXd a = Minvhalf * (Minvhalf * f);
+  if (s_ == 0) {
+    R.setZero();
+    qdd = a;
+    return ModelIssue::none;
+  }
+  const Eigen::MatrixXd B = g * Minvhalf;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(B, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  const double cut = 1e-12 * sv[0];
+  Eigen::VectorXd sinv(sv.size());
+  for (int i = 0; i < sv.size(); ++i) sinv[i] = sv[i] > cut ? 1.0 / sv[i] : 0.0;
+  const Eigen::VectorXd rhs = -gamma - g * a;
+  const Eigen::VectorXd y =
+      svd.matrixV() * (sinv.asDiagonal() * (svd.matrixU().transpose() * rhs));
+  R = Mhalf * y;
+  qdd = a + Minvhalf * y;
+  return ModelIssue::none;
+}
+
+ModelIssue Dynamics::solve(ReactionMethod method) {
+  switch (method) {
+    case ReactionMethod::compatibility:
+      return solve_compatibility();
+    case ReactionMethod::kkt:
+      return solve_kkt();
+    case ReactionMethod::udwadia_kalaba:
+      return solve_udwadia_kalaba();
+  }
+  return ModelIssue::none;
+}
+
+void Dynamics::dae_residuals(const Eigen::VectorXd& a, const Eigen::VectorXd& Rv,
+                             Eigen::Ref<Eigen::VectorXd> res_dyn,
+                             Eigen::Ref<Eigen::VectorXd> res_con) const {
+  res_dyn.noalias() = M * a;
+  res_dyn -= f;
+  res_dyn -= Rv;
+  if (s_ > 0) {
+    res_con.head(s_).noalias() = G * Rv;
+    res_con.head(s_) += G0;
+    res_con.tail(n_ - s_).noalias() = D.transpose() * Rv;
+  } else {
+    res_con = Rv;
+  }
+}
+
+double Dynamics::position_residual(double t, const Eigen::VectorXd& q) const {
+  double r = 0.0;
+  for (int i : active_) {
+    if (model_->constraints()[i].kind == ConstraintKind::holonomic) {
+      r = std::max(r, std::abs(model_->position_residual(i, t, q)));
+    }
+  }
+  return r;
+}
+
+double Dynamics::velocity_residual(const Eigen::VectorXd& qd) const {
+  if (s_ == 0) return 0.0;
+  return (g * qd + g0).cwiseAbs().maxCoeff();
+}
+
+}  // namespace pcsim::mech

@@ -1,0 +1,289 @@
+// simulate(): the ODE and DAE forms on the Radau IIA integrator, with consistent initial values,
+// drift control after accepted steps, residual tracking and the step observer.
+#include "mech/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <sstream>
+
+#include "mech/dynamics.hpp"
+#include "mech/projection.hpp"
+
+namespace pcsim::mech {
+
+Sample StepView::at(double s) const { return impl_at_(impl_, s); }
+
+namespace {
+
+class Run {
+ public:
+  Run(const Model& model, const SimulationOptions& opt, std::vector<int> active)
+      : model_(model),
+        opt_(opt),
+        active_(active),
+        dyn_(model, active, opt.kernel, opt.stabilization, opt.baumgarte_alpha,
+             opt.baumgarte_beta),
+        sample_dyn_(model, active, opt.kernel, opt.stabilization, opt.baumgarte_alpha,
+                    opt.baumgarte_beta),
+        n_(model.n()),
+        s_(static_cast<int>(active.size())),
+        q_(n_),
+        qd_(n_),
+        a_(n_),
+        Rv_(n_) {}
+
+  int ny() const { return opt_.form == Form::ode ? 2 * n_ : 4 * n_; }
+
+  // Right-hand side of K y' = f(t, y).
+  bool rhs(double t, const double* y, double* out) {
+    q_ = Eigen::Map<const Eigen::VectorXd>(y, n_);
+    qd_ = Eigen::Map<const Eigen::VectorXd>(y + n_, n_);
+    ModelIssue e = dyn_.evaluate(t, q_, qd_);
+    if (opt_.form == Form::ode) {
+      if (e == ModelIssue::none) e = dyn_.solve(ReactionMethod::compatibility);
+      if (e != ModelIssue::none) return failed(e);
+      Eigen::Map<Eigen::VectorXd>(out, n_) = qd_;
+      Eigen::Map<Eigen::VectorXd>(out + n_, n_) = dyn_.qdd;
+      return true;
+    }
+    if (e == ModelIssue::none) e = dyn_.prepare_compatibility();
+    if (e != ModelIssue::none) return failed(e);
+    a_ = Eigen::Map<const Eigen::VectorXd>(y + 2 * n_, n_);
+    Rv_ = Eigen::Map<const Eigen::VectorXd>(y + 3 * n_, n_);
+    Eigen::Map<Eigen::VectorXd>(out, n_) = qd_;
+    Eigen::Map<Eigen::VectorXd>(out + n_, n_) = a_;
+    dyn_.dae_residuals(a_, Rv_, Eigen::Map<Eigen::VectorXd>(out + 2 * n_, n_),
+                       Eigen::Map<Eigen::VectorXd>(out + 3 * n_, n_));
+    return true;
+  }
+
+  // The full consistent state vector y for (q, q̇) at t: DAE form adds a = q̈ and R.
+  ModelIssue fill_state(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                        Eigen::Ref<Eigen::VectorXd> y) {
+    y.head(n_) = q;
+    y.segment(n_, n_) = qd;
+    if (opt_.form == Form::dae) {
+      ModelIssue e = sample_dyn_.evaluate(t, q, qd);
+      if (e == ModelIssue::none) e = sample_dyn_.solve(ReactionMethod::compatibility);
+      if (e != ModelIssue::none) {
+        message_ = sample_dyn_.message();
+        return e;
+      }
+      y.segment(2 * n_, n_) = sample_dyn_.qdd;
+      y.segment(3 * n_, n_) = sample_dyn_.R;
+    }
+    return ModelIssue::none;
+  }
+
+  Sample sample(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    Sample out;
+    out.t = t;
+    out.q = q;
+    out.qd = qd;
+    ModelIssue e = sample_dyn_.evaluate(t, q, qd);
+    if (e == ModelIssue::none) e = sample_dyn_.solve(ReactionMethod::compatibility);
+    if (e == ModelIssue::none) {
+      out.qdd = sample_dyn_.qdd;
+      out.R = sample_dyn_.R;
+    } else {
+      out.qdd = Eigen::VectorXd::Constant(n_, std::nan(""));
+      out.R = out.qdd;
+    }
+    model_.derived(t, q, qd, out.R, out.derived);
+    out.residual_pos = sample_dyn_.position_residual(t, q);
+    out.residual_vel = sample_dyn_.velocity_residual(qd);
+    return out;
+  }
+
+  static Sample view_at(const void* self, double s) {
+    const Run& run = *static_cast<const Run*>(self);
+    return const_cast<Run&>(run).sample_in_step(s);
+  }
+
+  Sample sample_in_step(double s) {
+    if (step_ == nullptr || s >= step_->t || step_->t == step_->t_prev) {
+      return sample(current_t_, current_q_, current_qd_);
+    }
+    dense_.resize(ny());
+    step_->dense(std::max(s, step_->t_prev), dense_.data());
+    return sample(s, dense_.head(n_), dense_.segment(n_, n_));
+  }
+
+  // Residuals of the current state; updates the maxima.
+  void track_residuals(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    if (s_ == 0) return;
+    pw_.g.resize(s_, n_);
+    pw_.g0.resize(s_);
+    pw_.gamma.resize(s_);
+    model_.constraint_rows(active_, t, q, qd, pw_.g, pw_.g0, pw_.gamma);
+    res_pos_max_ = std::max(res_pos_max_, dyn_.position_residual(t, q));
+    res_vel_max_ = std::max(res_vel_max_, (pw_.g * qd + pw_.g0).cwiseAbs().maxCoeff());
+  }
+
+  // Called at t0 (step == nullptr) and after every accepted step.
+  bool observe(const StepInfo* step, double t, const Eigen::VectorXd& q,
+               const Eigen::VectorXd& qd, const StepObserver& observer) {
+    step_ = step;
+    current_t_ = t;
+    current_q_ = q;
+    current_qd_ = qd;
+    if (!observer) return true;
+    StepView view;
+    view.t_prev = step ? step->t_prev : t;
+    view.t = t;
+    view.impl_ = this;
+    view.impl_at_ = &Run::view_at;
+    try {
+      return observer(view);
+    } catch (const std::exception& ex) {
+      observer_error_ = std::string("the step observer threw: ") + ex.what();
+    } catch (...) {
+      observer_error_ = "the step observer threw an unknown exception";
+    }
+    return false;
+  }
+
+  StepAction on_step(StepInfo& step, const StepObserver& observer) {
+    Eigen::Map<Eigen::VectorXd> y(step.y, ny());
+    Eigen::VectorXd q = y.head(n_), qd = y.segment(n_, n_);
+    bool modified = false;
+    if (opt_.stabilization == Stabilization::projection && s_ > 0) {
+      double dq = 0.0, dv = 0.0;
+      const ModelIssue e = project_state(model_, active_, step.t, q, qd, opt_.kernel,
+                                         opt_.projection_tol, dq, dv, message_, pw_);
+      if (e != ModelIssue::none) {
+        projection_issue_ = e;
+        return StepAction::stop;
+      }
+      if (dq > 0.0 || dv > 0.0 || opt_.form == Form::dae) {
+        const ModelIssue e2 = fill_state(step.t, q, qd, y);
+        if (e2 != ModelIssue::none) {
+          projection_issue_ = e2;
+          return StepAction::stop;
+        }
+        modified = true;
+      }
+    }
+    track_residuals(step.t, q, qd);
+    if (!observe(&step, step.t, q, qd, observer)) return StepAction::stop;
+    return modified ? StepAction::state_modified : StepAction::proceed;
+  }
+
+  bool failed(ModelIssue e) {
+    last_issue_ = e;
+    last_failure_ = dyn_.message();
+    return false;
+  }
+
+  const Model& model_;
+  SimulationOptions opt_;
+  std::vector<int> active_;
+  Dynamics dyn_, sample_dyn_;
+  int n_, s_;
+  Eigen::VectorXd q_, qd_, a_, Rv_, dense_;
+  ProjectionWork pw_;
+  const StepInfo* step_ = nullptr;
+  double current_t_ = 0.0;
+  Eigen::VectorXd current_q_, current_qd_;
+  double res_pos_max_ = 0.0, res_vel_max_ = 0.0;
+  ModelIssue last_issue_ = ModelIssue::none;
+  std::string last_failure_;
+  ModelIssue projection_issue_ = ModelIssue::none;
+  std::string message_;
+  std::string observer_error_;
+};
+
+}  // namespace
+
+SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
+                          const Eigen::VectorXd& qd0, const SimulationOptions& options,
+                          const StepObserver& observer) {
+  SimulationResult result;
+  result.t = options.t0;
+  const CheckResult check =
+      check_model(model, options.active_constraints, options.t0, q0, qd0, options.kernel);
+  if (check.issue != ModelIssue::none) {
+    result.status = RadauStatus::bad_input;
+    result.issue = check.issue;
+    result.message = "model '" + model.name() + "': " + check.message;
+    return result;
+  }
+  const int n = model.n();
+  Eigen::VectorXd q = q0, qd = qd0;
+  {
+    ProjectionWork pw;
+    std::string msg;
+    const ModelIssue e = project_state(model, check.active, options.t0, q, qd, options.kernel,
+                                       options.projection_tol, result.initial_correction_pos,
+                                       result.initial_correction_vel, msg, pw);
+    if (e != ModelIssue::none) {
+      result.status = RadauStatus::bad_input;
+      result.issue = e;
+      result.message = "model '" + model.name() + "': consistent initial values: " + msg;
+      return result;
+    }
+  }
+  Run run(model, options, check.active);
+  Eigen::VectorXd y0(run.ny());
+  if (const ModelIssue e = run.fill_state(options.t0, q, qd, y0); e != ModelIssue::none) {
+    result.status = RadauStatus::bad_input;
+    result.issue = e;
+    result.message = "model '" + model.name() + "': at the initial state: " + run.message_;
+    return result;
+  }
+  run.track_residuals(options.t0, q, qd);
+  if (!run.observe(nullptr, options.t0, q, qd, observer)) {
+    result.status = run.observer_error_.empty() ? RadauStatus::stopped_by_callback
+                                                : RadauStatus::callback_error;
+    result.message = run.observer_error_;
+    result.q_end = q;
+    result.qd_end = qd;
+    result.residual_pos_max = run.res_pos_max_;
+    result.residual_vel_max = run.res_vel_max_;
+    return result;
+  }
+
+  OdeProblem problem;
+  problem.n = run.ny();
+  problem.rhs = [&run](double t, const double* y, double* f) { return run.rhs(t, y, f); };
+  if (options.form == Form::dae) {
+    problem.mass = Eigen::MatrixXd::Zero(4 * n, 4 * n);
+    problem.mass.topLeftCorner(2 * n, 2 * n).setIdentity();
+  }
+  RadauOptions ro;
+  ro.kernel = options.kernel;
+  ro.rtol = options.rtol;
+  ro.atol = options.atol;
+  ro.h0 = options.h0;
+  ro.hmax = options.hmax;
+  ro.max_steps = options.max_steps;
+  const RadauResult rr = radau_integrate(
+      problem, options.t0, y0, options.t_end, ro,
+      [&run, &observer](StepInfo& step) { return run.on_step(step, observer); });
+
+  result.status = rr.status;
+  result.t = rr.t;
+  result.stats = rr.stats;
+  result.message = rr.message;
+  result.q_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.head(n)) : q;
+  result.qd_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.segment(n, n)) : qd;
+  result.residual_pos_max = run.res_pos_max_;
+  result.residual_vel_max = run.res_vel_max_;
+  if (run.projection_issue_ != ModelIssue::none) {
+    result.status = RadauStatus::callback_error;
+    result.issue = run.projection_issue_;
+    result.message = "drift projection failed at t = " + std::to_string(rr.t) + ": " + run.message_;
+  } else if (!run.observer_error_.empty()) {
+    result.status = RadauStatus::callback_error;
+    result.message = run.observer_error_;
+  } else if (rr.status != RadauStatus::success && rr.status != RadauStatus::stopped_by_callback &&
+             run.last_issue_ != ModelIssue::none) {
+    result.issue = run.last_issue_;
+    result.message += (result.message.empty() ? "" : "; ") +
+                      std::string("the model could not be evaluated: ") + run.last_failure_;
+  }
+  return result;
+}
+
+}  // namespace pcsim::mech
