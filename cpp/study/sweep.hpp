@@ -1,0 +1,71 @@
+// The sweep engine: every point of a grid run through an injectable runner, in parallel
+// threads (and MPI ranks), into a resumable sweep.csv in grid order.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sieve/case.hpp"
+#include "study/cluster.hpp"
+#include "study/vary.hpp"
+
+namespace pcsim::study {
+
+/// Runs one design point and returns its summary.json content; may throw (the point's row
+/// then records the error). Must be safe to call from several threads at once.
+using Runner = std::function<nlohmann::json(const sieve::Case&)>;
+
+/// sieve::run_case writing no files: the runner of the pcsim commands.
+Runner case_runner();
+
+struct SweepOptions {
+  std::filesystem::path out_dir = "out/sweep";  ///< sweep.csv is written here
+  unsigned jobs = 0;                            ///< threads per rank; 0 = all cores
+  bool progress = false;                        ///< progress bar on stderr (rank 0)
+  const Cluster* cluster = nullptr;             ///< MPI ranks to share the points; null = alone
+};
+
+struct SweepReport {
+  bool ok = true;            ///< false: `error` says why (I/O, or sweep.csv of another sweep)
+  std::string error;
+  std::filesystem::path csv;   ///< out_dir/sweep.csv
+  std::size_t points = 0;      ///< grid size
+  std::size_t skipped = 0;     ///< already in sweep.csv from an earlier run
+  std::size_t ran = 0;         ///< run now
+  std::size_t failed = 0;      ///< rows of the final table with status "error"
+  std::size_t dropped = 0;     ///< torn or malformed lines dropped from an earlier sweep.csv
+  std::size_t foreign = 0;     ///< earlier rows not on this grid, kept after the grid rows
+};
+
+/// sweep.csv's header: the axis keys, summary_columns(), status, error.
+std::vector<std::string> sweep_header(const Grid& grid);
+
+/// The fields of grid point i's row: its values, the flattened summary of runner(point case),
+/// "ok" and ""; or, if setting the values or the run throws, empty summary fields, "error" and
+/// the reason.
+std::vector<std::string> sweep_row(const sieve::Case& base, const Grid& grid, std::size_t i,
+                                   const Runner& runner);
+
+/// Runs every point of `grid` not yet in out_dir/sweep.csv and leaves sweep.csv holding the
+/// header and one row per grid point in grid order (then any earlier rows not on this grid).
+///
+/// File protocol (crash safety): an existing sweep.csv with the same header is read; complete
+/// lines (ending in '\n') with the right number of fields are kept, a torn last line or a
+/// malformed line is dropped; the kept lines are written back via a temporary file and rename.
+/// Each finished point is then appended as one complete line with write + fsync, so an
+/// interruption loses only the points in flight and at worst leaves a torn last line, which
+/// the next run drops. At the end the whole table is rewritten in grid order via temporary
+/// file + fsync + rename, so sweep.csv is never seen half-written.
+///
+/// With a multi-rank cluster, rank 0 owns the file; the pending points are dealt out
+/// round-robin (pending[k] goes to rank k mod size), every rank runs its share with `jobs`
+/// threads and sends finished rows to rank 0. Every rank returns the same report.
+SweepReport run_sweep(const sieve::Case& base, const Grid& grid, const Runner& runner,
+                      const SweepOptions& options);
+
+}  // namespace pcsim::study

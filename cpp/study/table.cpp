@@ -1,0 +1,161 @@
+// Flattening summaries into sweep.csv columns; CSV lines written and read back.
+#include "study/table.hpp"
+
+#include <charconv>
+#include <fstream>
+#include <sstream>
+
+#include "study/vary.hpp"
+
+namespace pcsim::study {
+
+namespace {
+
+/// A JSON pointer for a dotted column name ("amplitude.x" -> "/amplitude/x").
+nlohmann::json::json_pointer pointer(const std::string& dotted) {
+  std::string p = "/" + dotted;
+  for (auto& ch : p)
+    if (ch == '.') ch = '/';
+  return nlohmann::json::json_pointer(p);
+}
+
+std::string scalar_text(const nlohmann::json& v) {
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_number_integer()) return std::to_string(v.get<long long>());
+  if (v.is_number()) return format_number(v.get<double>());
+  if (v.is_string()) return v.get<std::string>();
+  return "";  // null, or a structure where a scalar was expected
+}
+
+}  // namespace
+
+const std::vector<std::string>& summary_columns() {
+  static const std::vector<std::string> columns = {
+      "amplitude.x", "amplitude.y", "amplitude.theta", "theta_mean",
+      "R_u_min", "R_u_max", "R_u_min_over_weight", "fstar_max",
+      "contact_kept", "rolling_kept", "first_violation.contact", "first_violation.rolling",
+      "constraint_residual_max",
+      "q_end.x", "q_end.y", "q_end.theta", "q_end.s", "q_end.u", "q_end.phi",
+      "stats.steps", "stats.accepted", "stats.rejected", "stats.f_evals", "stats.jacobians",
+      "stats.lu_decompositions",
+      "contact_margin", "rolling_margin"};
+  return columns;
+}
+
+std::vector<std::string> flatten_summary(const nlohmann::json& summary, double friction) {
+  const auto& columns = summary_columns();
+  std::vector<std::string> fields;
+  fields.reserve(columns.size());
+  for (const auto& c : columns) {
+    if (c == "contact_margin") {
+      const auto p = pointer("R_u_min_over_weight");
+      fields.push_back(summary.contains(p) && summary.at(p).is_number()
+                           ? format_number(summary.at(p).get<double>())
+                           : "");
+    } else if (c == "rolling_margin") {
+      const auto p = pointer("fstar_max");
+      fields.push_back(summary.contains(p) && summary.at(p).is_number()
+                           ? format_number(1.0 - summary.at(p).get<double>() / friction)
+                           : "");
+    } else {
+      const auto p = pointer(c);
+      fields.push_back(summary.contains(p) ? scalar_text(summary.at(p)) : "");
+    }
+  }
+  return fields;
+}
+
+std::map<std::string, double> numeric_fields(const std::vector<std::string>& columns,
+                                             const std::vector<std::string>& fields) {
+  std::map<std::string, double> out;
+  for (std::size_t i = 0; i < columns.size() && i < fields.size(); ++i) {
+    const std::string& f = fields[i];
+    if (f == "true") {
+      out[columns[i]] = 1.0;
+    } else if (f == "false") {
+      out[columns[i]] = 0.0;
+    } else if (!f.empty()) {
+      double v = 0.0;
+      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
+      if (ec == std::errc() && end == f.data() + f.size()) out[columns[i]] = v;
+    }
+  }
+  return out;
+}
+
+std::string csv_line(const std::vector<std::string>& fields) {
+  std::string line;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (i) line += ',';
+    std::string f = fields[i];
+    for (auto& ch : f)
+      if (ch == '\n' || ch == '\r') ch = ' ';
+    if (f.find_first_of(",\"") == std::string::npos) {
+      line += f;
+    } else {
+      line += '"';
+      for (char ch : f) {
+        if (ch == '"') line += '"';
+        line += ch;
+      }
+      line += '"';
+    }
+  }
+  return line;
+}
+
+std::optional<std::vector<std::string>> parse_csv_line(std::string_view line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  bool was_quoted = false;  // the current field was a quoted one that has closed
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char ch = line[i];
+    if (quoted) {
+      if (ch == '"') {
+        if (i + 1 < line.size() && line[i + 1] == '"') {
+          fields.back() += '"';
+          ++i;
+        } else {
+          quoted = false;
+          was_quoted = true;
+        }
+      } else {
+        fields.back() += ch;
+      }
+    } else if (ch == ',') {
+      fields.emplace_back();
+      was_quoted = false;
+    } else if (ch == '"' && fields.back().empty() && !was_quoted) {
+      quoted = true;
+    } else if (was_quoted || ch == '"' || ch == '\r' || ch == '\n') {
+      return std::nullopt;  // text after a closing quote, or a stray quote
+    } else {
+      fields.back() += ch;
+    }
+  }
+  if (quoted) return std::nullopt;
+  return fields;
+}
+
+std::optional<std::size_t> CsvTable::column(std::string_view name) const {
+  for (std::size_t i = 0; i < header.size(); ++i)
+    if (header[i] == name) return i;
+  return std::nullopt;
+}
+
+std::optional<CsvTable> read_csv(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::string line;
+  if (!std::getline(in, line)) return std::nullopt;
+  auto header = parse_csv_line(line);
+  if (!header) return std::nullopt;
+  CsvTable t{*header, {}};
+  while (std::getline(in, line)) {
+    auto row = parse_csv_line(line);
+    if (row && row->size() == t.header.size()) t.rows.push_back(std::move(*row));
+  }
+  return t;
+}
+
+}  // namespace pcsim::study

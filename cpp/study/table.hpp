@@ -1,0 +1,56 @@
+// The sweep table: which summary.json fields become sweep.csv columns, how a summary is
+// flattened into them, and CSV lines written and read back (RFC 4180 quoting).
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace pcsim::study {
+
+/// The summary columns of sweep.csv, in order: every scalar of summary.json that is a
+/// deterministic function of the case (amplitude.*, theta_mean, R_u_*, fstar_max, verdicts,
+/// first_violation.*, constraint_residual_max, q_end.*, stats.* except wall_seconds), then the
+/// two design margins: contact_margin = min R_u/(m2 g) and rolling_margin = 1 - max f*/f.
+/// stats.wall_seconds is left out on purpose: it differs from run to run, and a sweep's table
+/// must be identical whatever the number of jobs or ranks (measure speed with bench_study).
+const std::vector<std::string>& summary_columns();
+
+/// The last two columns of every row.
+inline constexpr const char* kStatusColumn = "status";  ///< "ok" or "error"
+inline constexpr const char* kErrorColumn = "error";    ///< the reason of a failed point
+
+/// The values of summary_columns() for one summary, as CSV text: numbers as shortest
+/// round-trip decimals, booleans as true/false, null or missing as an empty field.
+/// `friction` is the case's parameters.f (for rolling_margin).
+std::vector<std::string> flatten_summary(const nlohmann::json& summary, double friction);
+
+/// The numeric columns of a flattened summary by name (booleans as 1/0; empty fields left out).
+std::map<std::string, double> numeric_fields(const std::vector<std::string>& columns,
+                                             const std::vector<std::string>& fields);
+
+/// One CSV line (no newline): fields joined by commas; a field holding a comma, quote or
+/// line break is quoted, with quotes doubled; line breaks in fields become spaces.
+std::string csv_line(const std::vector<std::string>& fields);
+
+/// Splits one CSV line (without its newline) into fields; nullopt if the quoting is broken.
+std::optional<std::vector<std::string>> parse_csv_line(std::string_view line);
+
+/// A whole CSV file: header and rows. Lines that do not parse or have the wrong number of
+/// fields are dropped.
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  /// Index of a column by name, or nullopt.
+  std::optional<std::size_t> column(std::string_view name) const;
+};
+
+/// Reads a CSV file; nullopt if it cannot be read or has no header line.
+std::optional<CsvTable> read_csv(const std::filesystem::path& file);
+
+}  // namespace pcsim::study
