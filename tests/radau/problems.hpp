@@ -79,8 +79,8 @@ inline ReferenceProblem van_der_pol_published() {
 /// Its independent cross-check is the published neighbour y(0) = (2, 0): the initial layer
 /// (time scale eps) moves the slow solution by O(eps), so the two end values differ by ~1e-6;
 /// test_radau_reference checks that difference against that bound.
-inline constexpr double kVdpM066Ref1 = 0.0;  // filled from `bench_radau --reference`
-inline constexpr double kVdpM066Ref2 = 0.0;
+inline constexpr double kVdpM066Ref1 = 1.7061674375430462e+00;
+inline constexpr double kVdpM066Ref2 = -8.9281001655149383e-01;
 inline ReferenceProblem van_der_pol_issue() {
   ReferenceProblem r;
   r.name = "vdpol y0=(2,-0.66)";
@@ -404,16 +404,19 @@ inline TracedRun run_traced(const ReferenceProblem& rp, Kernel kernel, double rt
   return run;
 }
 
-/// The largest componentwise relative difference between two traced runs over all accepted
-/// steps (step end times and solutions); +infinity if they took different numbers of steps.
-inline double trace_disagreement(const TracedRun& a, const TracedRun& b, double floor) {
+/// The largest relative difference of the accepted-step end times of two traced runs;
+/// +infinity if they took different numbers of steps.
+inline double step_time_disagreement(const TracedRun& a, const TracedRun& b) {
   if (a.t.size() != b.t.size()) return std::numeric_limits<double>::infinity();
-  double e = kernel_disagreement(a.result.y, b.result.y, floor);
-  for (std::size_t k = 0; k < a.t.size(); ++k) {
+  double e = 0.0;
+  for (std::size_t k = 0; k < a.t.size(); ++k)
     e = std::max(e, std::abs(a.t[k] - b.t[k]) / std::max(std::abs(a.t[k]), std::abs(b.t[k])));
-    e = std::max(e, kernel_disagreement(a.y[k], b.y[k], floor));
-  }
   return e;
 }
+
+/// RADAU5's tolerance transformation, which fortran/radau.f documents and both kernels apply:
+/// the local error is controlled against rtol' = 0.1 rtol^(2/3) (calibrated so that the global
+/// error of dissipative stiff problems lands near rtol).
+inline double transformed_rtol(double rtol) { return 0.1 * std::pow(rtol, 2.0 / 3.0); }
 
 }  // namespace pcsim::testproblems

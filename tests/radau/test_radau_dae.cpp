@@ -15,15 +15,25 @@ using namespace pcsim::testproblems;
 
 namespace {
 
-// Same agreement criterion as test_radau_reference: same accepted steps, solutions at every
-// accepted step within 1e-9 relative (scaled by max(|a|, |b|, atol)).
+// Same agreement criteria as test_radau_reference (see the reasoning there): same accepted
+// and rejected counts, end solutions within 1e-9 relative (scale max(|a|, |b|, atol)), step
+// end times within 1e-4 relative (rounding in the error estimate is amplified by 1/rtol').
 constexpr double kKernelAgreement = 1e-9;
+constexpr double kStepTimeAgreement = 1e-4;
 
-// Global error allowance: max error <= kGlobalFactor * rtol, i.e. at least -log10(rtol) - 2
-// correct digits (see test_radau_reference for the reasoning). For index-1 DAEs Radau IIA
-// keeps its order 5 in the algebraic variables too (stiffly accurate; H&W II, VI.1), so the
-// same allowance applies to z and lambda.
+// Global error allowances.
+// (a) Short runs (the index-1 DAE: 3 time units, one revolution): max error <= 100 rtol, i.e.
+//     at least -log10(rtol) - 2 correct digits (reasoning in test_radau_reference). For index-1
+//     DAEs Radau IIA keeps order 5 in the algebraic variables too (stiffly accurate; H&W II,
+//     VI.1), so the same allowance applies to z.
 constexpr double kGlobalFactor = 100.0;
+// (b) The pendulum is conservative: nothing damps the local errors, which add up over its
+//     2.5 periods (~200-800 steps). The kernels control the local error against
+//     rtol' = 0.1 rtol^(2/3) (RADAU5's transformation, transformed_rtol in problems.hpp), which
+//     is looser than rtol for rtol < 1e-3 (rtol' = 1e-7 at rtol = 1e-9). So the achieved error
+//     there is ~rtol', not ~rtol (measured 0.1-2 rtol'), and the allowance is 10 rtol', i.e. at
+//     least (2/3)(-log10 rtol) digits: 4 at rtol = 1e-6, 6 at 1e-9, 6.7 at 1e-10.
+double pendulum_allowance(double rtol) { return 10.0 * transformed_rtol(rtol); }
 
 /// Runs rp with both kernels, checks agreement, returns both runs (Fortran first).
 std::pair<TracedRun, TracedRun> run_both_and_compare(const ReferenceProblem& rp, double rtol,
@@ -35,7 +45,8 @@ std::pair<TracedRun, TracedRun> run_both_and_compare(const ReferenceProblem& rp,
     BOOST_TEST((c.result.status == RadauStatus::success), c.result.message);
     BOOST_TEST(f.result.stats.accepted == c.result.stats.accepted);
     BOOST_TEST(f.result.stats.rejected == c.result.stats.rejected);
-    BOOST_TEST(trace_disagreement(f, c, atol) <= kKernelAgreement);
+    BOOST_TEST(kernel_disagreement(f.result.y, c.result.y, atol) <= kKernelAgreement);
+    BOOST_TEST(step_time_disagreement(f, c) <= kStepTimeAgreement);
   }
   return {std::move(f), std::move(c)};
 }
@@ -148,9 +159,11 @@ BOOST_AUTO_TEST_CASE(pendulum_dae_matches_minimal_coordinates_position_and_tensi
   auto exact = [&P](double t) {
     return Eigen::VectorXd(pendulum_cartesian(P, pendulum_exact(P, t)));
   };
+  std::vector<double> errs;
   for (double rtol : {1e-6, 1e-8, 1e-10}) {
     const auto [f, c] = run_both_and_compare(rp, rtol, rtol);
     const double err_pos = max_trace_error(f, exact, 4);
+    errs.push_back(err_pos);
     double err_tension = 0.0, drift = 0.0;
     for (std::size_t k = 0; k < f.t.size(); ++k) {
       const Eigen::VectorXd ex = exact(f.t[k]);
@@ -162,11 +175,14 @@ BOOST_AUTO_TEST_CASE(pendulum_dae_matches_minimal_coordinates_position_and_tensi
                                               << " tension err=" << err_tension
                                               << " |r|-L drift=" << drift
                                               << " accepted=" << f.result.stats.accepted);
-    BOOST_TEST(err_pos <= kGlobalFactor * rtol, "rtol=" << rtol);
-    BOOST_TEST(err_tension <= kGlobalFactor * rtol, "rtol=" << rtol);
+    BOOST_TEST(err_pos <= pendulum_allowance(rtol), "rtol=" << rtol);
+    BOOST_TEST(err_tension <= pendulum_allowance(rtol), "rtol=" << rtol);
     // Acceleration-level constraints drift; the drift is part of the position error above.
-    BOOST_TEST(drift <= kGlobalFactor * rtol);
+    BOOST_TEST(drift <= pendulum_allowance(rtol));
   }
+  // And the error falls with the tolerance: by >= 1 decade per 2 decades of rtol (rtol' falls
+  // by 10^(4/3) = 21 per 2 decades of rtol).
+  for (std::size_t i = 1; i < errs.size(); ++i) BOOST_TEST(errs[i] <= 0.1 * errs[i - 1]);
 }
 
 BOOST_AUTO_TEST_CASE(pendulum_engine_form_dae_matches_minimal_coordinates) {
@@ -186,7 +202,7 @@ BOOST_AUTO_TEST_CASE(pendulum_engine_form_dae_matches_minimal_coordinates) {
     }
     BOOST_TEST_MESSAGE("pendulum 7-var rtol=" << rtol << " max err=" << err
                                               << " accepted=" << f.result.stats.accepted);
-    BOOST_TEST(err <= kGlobalFactor * rtol, "rtol=" << rtol);
+    BOOST_TEST(err <= pendulum_allowance(rtol), "rtol=" << rtol);
   }
 }
 
@@ -203,5 +219,5 @@ BOOST_AUTO_TEST_CASE(pendulum_dae_with_finite_difference_jacobian_matches_minima
   const auto [f, c] = run_both_and_compare(rp, rtol, rtol);
   const double err = max_trace_error(f, exact, 5);
   BOOST_TEST_MESSAGE("pendulum 5-var FD Jacobian rtol=" << rtol << " max err=" << err);
-  BOOST_TEST(err <= kGlobalFactor * rtol);
+  BOOST_TEST(err <= pendulum_allowance(rtol));
 }

@@ -14,13 +14,19 @@ using namespace pcsim::testproblems;
 
 namespace {
 
-// Cross-kernel agreement required by issue 3: the same accepted steps and solutions within 1e-9
-// relative (componentwise, scaled by max(|a|, |b|, atol): components below atol are below the
-// resolution the error control asks for). The kernels run the same algorithm in the same order
-// of operations up to BLAS/LAPACK versus Eigen rounding (~1e-16 per operation), which the error
-// control does not amplify by more than a few decades; 1e-9 leaves room without hiding a bug
-// (a different step sequence shows as O(rtol) differences).
+// Cross-kernel agreement required by issue 3: the same number of accepted (and rejected)
+// steps, and solutions at t_end within 1e-9 relative (componentwise, scaled by
+// max(|a|, |b|, atol): components below atol are below the resolution the error control asks
+// for). The kernels run the same algorithm; their results differ by rounding only (LAPACK/BLAS
+// versus Eigen), ~1e-16 per operation, and t_end is hit exactly by both.
 constexpr double kKernelAgreement = 1e-9;
+// The step SEQUENCES cannot agree to 1e-9 at tight tolerances, and this is not a defect: the
+// error estimate is a difference of O(|y|) quantities that comes out O(rtol' |y|), so its
+// relative rounding is ~u / rtol' (1e-16 / 2e-8 = 5e-9 at rtol = 1e-10), and the step-size
+// controller carries it from step to step (measured: up to 7e-7 relative in the step end times
+// for van der Pol at rtol = 1e-8). A different step-size DECISION (another safety factor,
+// another Newton count) would show as >= 1e-2. So the step end times must agree to 1e-4.
+constexpr double kStepTimeAgreement = 1e-4;
 
 // The global error of a tolerance-controlled one-step method is the sum of the local errors
 // over the run, each kept below ~rtol in the weighted norm; for these problems (one fast
@@ -39,7 +45,8 @@ TracedRun run_both_and_compare(const ReferenceProblem& rp, double rtol, double a
     BOOST_TEST((c.result.status == RadauStatus::success), c.result.message);
     BOOST_TEST(f.result.stats.accepted == c.result.stats.accepted);
     BOOST_TEST(f.result.stats.rejected == c.result.stats.rejected);
-    BOOST_TEST(trace_disagreement(f, c, atol) <= kKernelAgreement);
+    BOOST_TEST(kernel_disagreement(f.result.y, c.result.y, atol) <= kKernelAgreement);
+    BOOST_TEST(step_time_disagreement(f, c) <= kStepTimeAgreement);
   }
   return f;
 }
@@ -72,24 +79,41 @@ BOOST_AUTO_TEST_CASE(vdpol_issue_configuration_matches_computed_reference) {
 }
 
 BOOST_AUTO_TEST_CASE(vdpol_computed_reference_is_consistent_with_published_neighbour) {
-  // The published (2, 0) solution is an independent check of the computed (2, -0.66) one:
-  // starting off the slow manifold y2 = y1/(1 - y1^2) (= -2/3 at y1 = 2), the fast layer
-  // (time scale eps/(y1^2 - 1) = eps/3) moves y1 by about the integral of y2 over it,
-  // ~ (2/3)(eps/3) ~ 2e-7, i.e. a time shift of ~3e-7 of the slow motion; at t = 2 that moves
-  // y by |y'(2)| * 3e-7 ~ 3e-7 (y1' = y2 = -0.89, y2' ~ 1.07 y1'). The two end values must
-  // therefore agree to 1e-5 relative (30x margin) -- a wrong reference would miss by O(1).
+  // An oracle independent of our integrator for the computed (2, -0.66) reference: the
+  // published (2, 0) solution plus the initial-layer asymptotics. Near t = 0, y1 ~ 2 and
+  // eps y2' = -3 y2 - 2, so y2 relaxes to the slow manifold y2 = y1/(1 - y1^2) = -2/3 as
+  // y2 = -2/3 + (y2(0) + 2/3) exp(-3 t/eps), during which y1 moves by (y2(0) + 2/3) eps/3 more
+  // than on the manifold. Both runs then follow the same slow solution, shifted in time by
+  //   dt = [(0 + 2/3) - (-0.66 + 2/3)] (eps/3) / (2/3) = 0.66 eps / 2 = 3.3e-7
+  // (the (2, 0) run lags), so y_issue(2) - y_pub(2) = y'(2) dt with, on the slow manifold,
+  //   y1' = y2,  y2' = (1 + y1^2)/(1 - y1^2)^2 y1'.
+  // Predicted: (-2.9463e-7, -3.1553e-7). Neglected: relative O(eps) = 1e-6 terms (the layer
+  // rate 1 - y1^2 moves with y1, the O(eps) slow-manifold correction differs only at second
+  // order) and the curvature y'' dt^2 / 2 ~ 1e-13. Bound: 1e-4 of the shift (3e-11 absolute),
+  // two decades above the neglected terms; it verifies the computed reference to ~10 digits
+  // independently of our integrator (a scratch check while writing this test matched to 2e-6
+  // of the shift).
   const ReferenceProblem issue = van_der_pol_issue();
   const ReferenceProblem published = van_der_pol_published();
   BOOST_REQUIRE_MESSAGE(issue.y_ref(0) != 0.0, "the computed reference is not filled in");
-  const double diff = max_relative_error(issue.y_ref, published.y_ref);
-  BOOST_TEST_MESSAGE("|ref(2,-0.66) - ref(2,0)| relative = " << diff);
-  BOOST_TEST(diff <= 1e-5);
+  const double eps = 1e-6;
+  const double dt = 0.66 * eps / 2.0;
+  const double y1 = published.y_ref(0), y2 = published.y_ref(1);
+  const double y1dot = y2;
+  const double y2dot = (1.0 + y1 * y1) / ((1.0 - y1 * y1) * (1.0 - y1 * y1)) * y1dot;
+  const Eigen::Vector2d predicted(y1dot * dt, y2dot * dt);
+  const Eigen::Vector2d measured = issue.y_ref - published.y_ref;
+  BOOST_TEST_MESSAGE("ref(2,-0.66) - ref(2,0): measured " << measured.transpose()
+                                                          << ", predicted " << predicted.transpose());
+  for (int i = 0; i < 2; ++i)
+    BOOST_TEST(std::abs(measured(i) - predicted(i)) <= 1e-4 * std::abs(predicted(i)));
 }
 
 BOOST_AUTO_TEST_CASE(robertson_matches_published_reference_at_1e11) {
   // Oracle: Bari test set ROBER at t = 1e11 (problems.hpp). y2 ~ 8e-14 there, so atol must be
   // far below it for y2 to be controlled relatively: atol = 1e-14 * rtol resolves all three
-  // components to ~rtol relative. Expected: >= -log10(rtol) - 2 digits in every component.
+  // components to ~rtol relative. Required: >= -log10(rtol) - 2 digits in every component
+  // (the slow manifold damps the global error, so in practice there are many more).
   const ReferenceProblem rp = robertson();
   for (double rtol : {1e-6, 1e-8, 1e-10}) {
     const double atol = 1e-14 * rtol;
@@ -143,24 +167,25 @@ BOOST_AUTO_TEST_CASE(robertson_conserves_total_mass_over_whole_run) {
 }
 
 BOOST_AUTO_TEST_CASE(achieved_error_decreases_with_requested_tolerance) {
-  // Tolerance proportionality: over rtol = 1e-4 ... 1e-10 the achieved error must fall at every
-  // step of 1e-2 in rtol (no plateau), and by at least 4 of the 6 decades overall (Radau IIA
-  // with its error estimator is close to proportional; H&W's diagrams show slopes near 1).
-  struct Case {
-    ReferenceProblem rp;
-    double atol_factor;
-  };
-  const std::vector<Case> cases = {{van_der_pol_published(), 1.0}, {robertson(), 1e-14}};
-  for (const Case& c : cases) {
+  // Tolerance proportionality on van der Pol (published reference): over rtol = 1e-4 ... 1e-10
+  // the achieved error must fall at every step of 1e-2 in rtol (no plateau), and by at least 4
+  // of the 6 decades overall (Radau IIA with its embedded estimator is close to proportional;
+  // H&W's work-precision diagrams show slopes near 1). Robertson is not used here: at t = 1e11
+  // its solution sits on an attracting slow manifold that damps the global error, so its end
+  // value already has ~13-14 correct digits at rtol = 1e-6 and plateaus at the precision of
+  // the reference (see the table in docs/radau-validation.md).
+  const ReferenceProblem rp = van_der_pol_published();
+  for (Kernel kernel : {Kernel::fortran, Kernel::cpp}) {
     std::vector<double> errs;
     for (double rtol : {1e-4, 1e-6, 1e-8, 1e-10}) {
-      const TracedRun r = run_traced(c.rp, Kernel::fortran, rtol, c.atol_factor * rtol);
+      const TracedRun r = run_traced(rp, kernel, rtol, rtol);
       BOOST_REQUIRE_MESSAGE(r.result.status == RadauStatus::success, r.result.message);
-      errs.push_back(max_relative_error(r.result.y, c.rp.y_ref));
-      BOOST_TEST_MESSAGE(c.rp.name << " rtol=" << rtol << " err=" << errs.back()
-                                   << " digits=" << correct_digits(r.result.y, c.rp.y_ref));
+      errs.push_back(max_relative_error(r.result.y, rp.y_ref));
+      BOOST_TEST_MESSAGE(to_string(kernel) << " " << rp.name << " rtol=" << rtol << " err="
+                                           << errs.back() << " digits="
+                                           << correct_digits(r.result.y, rp.y_ref));
     }
-    BOOST_TEST_CONTEXT(c.rp.name) {
+    BOOST_TEST_CONTEXT(to_string(kernel)) {
       for (std::size_t i = 1; i < errs.size(); ++i) BOOST_TEST(errs[i] < errs[i - 1]);
       BOOST_TEST(errs.back() <= 1e-4 * errs.front());
     }
