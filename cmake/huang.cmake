@@ -7,3 +7,18 @@ pcsim_component(NAME huang
   LINKS   pcsim_common Eigen3::Eigen LAPACK::LAPACK)
 pcsim_boost_tests(DIR tests/huang LINKS pcsim_huang LAPACK::LAPACK)
 pcsim_benchmarks(PREFIX bench_huang LINKS pcsim_huang)
+
+# Fortran test driver: calls the kernels directly, self-checks, and writes its inputs and
+# results for test_huang_driver (which compares C++ through the bridge and the port to them).
+if(TARGET pcsim_huang)
+  add_executable(huang_driver tests/huang/huang_driver.f90)
+  target_link_libraries(huang_driver PRIVATE pcsim_huang LAPACK::LAPACK)
+  set_target_properties(huang_driver PROPERTIES LINKER_LANGUAGE Fortran
+    Fortran_MODULE_DIRECTORY "${CMAKE_BINARY_DIR}/mod/huang_driver")
+  add_test(NAME huang_driver
+           COMMAND huang_driver "${CMAKE_BINARY_DIR}/huang_driver_results.txt")
+  set_tests_properties(huang_driver PROPERTIES FIXTURES_SETUP huang_driver_results)
+  if(TEST test_huang_driver)
+    set_tests_properties(test_huang_driver PROPERTIES FIXTURES_REQUIRED huang_driver_results)
+  endif()
+endif()
