@@ -1,0 +1,171 @@
+// `pcsim plot DIR`: PNG figures of a `pcsim run` output directory with gnuplot: theta(t),
+// R_u(t) with 0 marked, f*(t) with f marked, x(t) and y(t); each with the whole run above and
+// the summary window (shaded in the upper panel) below.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include "cli/commands.hpp"
+#include "common/error.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+bool on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  std::stringstream ss(path);
+  std::string dir;
+  while (std::getline(ss, dir, ':')) {
+    if (dir.empty()) continue;
+    std::error_code ec;
+    const fs::path p = fs::path(dir) / program;
+    if (fs::is_regular_file(p, ec) && access(p.c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+// gnuplot string literal: single quotes, with ' doubled.
+std::string quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += (c == '\'') ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+struct Figure {
+  std::string file, title, ylabel;
+  std::vector<std::pair<std::string, std::string>> curves;  // column, legend
+  std::string hline_label;
+  double hline = 0;
+  bool has_hline = false;
+};
+
+void plot(const std::string& dir_text) {
+  const fs::path dir(dir_text);
+  const fs::path csv = dir / "timeseries.csv", sum = dir / "summary.json";
+  if (!fs::exists(csv) || !fs::exists(sum))
+    throw pcsim::InputError(dir_text + ": expected the output of `pcsim run` (timeseries.csv "
+                                       "and summary.json)");
+  nlohmann::json s;
+  try {
+    std::ifstream in(sum);
+    s = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw pcsim::InputError(sum.string() + ": not a readable summary (" + e.what() + ")");
+  }
+  std::map<std::string, int> col;
+  {
+    std::ifstream in(csv);
+    std::string header;
+    std::getline(in, header);
+    std::stringstream hs(header);
+    std::string name;
+    for (int i = 1; std::getline(hs, name, ','); ++i) col[name] = i;
+  }
+  for (const char* need : {"t", "x", "y", "theta", "R_u", "fstar"})
+    if (!col.count(need))
+      throw pcsim::InputError(csv.string() + ": header has no column '" + need + "'");
+  if (!on_path("gnuplot"))
+    throw pcsim::InputError(
+        "pcsim plot needs gnuplot, which is not on PATH: install it (Debian: apt-get install "
+        "gnuplot-nox, or run scripts/install-deps.sh)");
+
+  const double w0 = s.at("window").at(0).get<double>(), w1 = s.at("window").at(1).get<double>();
+  const std::string name = s.value("case", std::string("case"));
+  double f = 0;
+  bool have_f = false;
+  if (s.contains("assumptions") && s["assumptions"].contains("parameters.f")) {
+    f = s["assumptions"]["parameters.f"].get<double>();
+    have_f = true;
+  }
+  std::vector<Figure> figs;
+  figs.push_back({"theta.png", "Desk rotation θ(t)", "θ [rad]", {{"theta", "θ"}}, "", 0, false});
+  figs.push_back({"R_u.png", "Normal contact force R_u(t); (3.1) contact kept while R_u > 0",
+                  "R_u [N]", {{"R_u", "R_u"}}, "R_u = 0 (contact lost)", 0, true});
+  figs.push_back({"fstar.png", "Friction ratio f*(t) = |R_s|/R_u; (3.2) rolling kept while f* < f",
+                  "f* [-]", {{"fstar", "f*"}}, "f (friction coefficient)", f, have_f});
+  figs.push_back({"xy.png", "Desk displacement x(t) (vertical) and y(t) (horizontal)",
+                  "displacement [m]", {{"x", "x"}, {"y", "y"}}, "", 0, false});
+
+  std::ostringstream g;
+  g << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+       "  set terminal pngcairo size 1000,750 font 'sans,10'\n"
+       "} else {\n"
+       "  set terminal png size 1000,750\n"
+       "}\n"
+       "set datafile separator ','\n"
+       "set grid\nset key top right opaque\n";
+  for (const auto& fig : figs) {
+    g << "set output " << quoted((dir / fig.file).string()) << "\n";
+    g << "set multiplot layout 2,1 title " << quoted(name + ": " + fig.title) << "\n";
+    for (int panel = 0; panel < 2; ++panel) {
+      g << "unset object 1\n";
+      if (panel == 0) {
+        g << "set title 'whole run (shaded: summary window)'\n";
+        g << "set object 1 rect from " << w0 << ", graph 0 to " << w1
+          << ", graph 1 fc rgb '#ffe0a0' fs solid 0.5 noborder behind\n";
+        g << "set xrange [*:*]\n";
+      } else {
+        g << "set title " << quoted("summary window t = " + std::to_string(w0) + " .. " +
+                                    std::to_string(w1) + " s")
+          << "\n";
+        g << "set xrange [" << w0 << ":" << w1 << "]\n";
+      }
+      g << "set xlabel 't [s]'\nset ylabel " << quoted(fig.ylabel) << "\n";
+      g << "plot ";
+      bool first = true;
+      for (const auto& [c, legend] : fig.curves) {
+        g << (first ? "" : ", ") << quoted(csv.string()) << " every ::1 using " << col["t"] << ":"
+          << col[c] << " with lines lw 1.5 title " << quoted(legend);
+        first = false;
+      }
+      if (fig.has_hline)
+        g << ", " << fig.hline << " with lines lw 2 dt 2 lc rgb 'red' title "
+          << quoted(fig.hline_label);
+      g << "\n";
+    }
+    g << "unset multiplot\nunset output\n";
+  }
+  const fs::path script = dir / "plots.gp";
+  {
+    std::ofstream out(script);
+    out << g.str();
+    if (!out) throw pcsim::InputError("cannot write " + script.string());
+  }
+  FILE* pipe = popen("gnuplot", "w");
+  if (!pipe) throw pcsim::InputError("cannot start gnuplot");
+  std::fprintf(pipe, "load %s\n", quoted(script.string()).c_str());
+  const int status = pclose(pipe);
+  if (status != 0)
+    throw std::runtime_error("gnuplot failed on " + script.string() + " (exit status " +
+                             std::to_string(status) + ")");
+  std::printf("pcsim plot: wrote");
+  for (const auto& fig : figs) std::printf(" %s", (dir / fig.file).string().c_str());
+  std::printf("\n  (gnuplot script: %s)\n", script.string().c_str());
+}
+
+void setup(CLI::App& app) {
+  auto dir = std::make_shared<std::string>();
+  CLI::App* sub = app.add_subcommand(
+      "plot", "PNG figures (gnuplot) of a `pcsim run` output directory: theta, R_u, f*, x and y");
+  sub->add_option("dir", *dir, "the output directory of `pcsim run`, e.g. out/sieve_1995")
+      ->required();
+  sub->callback([dir]() { plot(*dir); });
+}
+
+const bool registered = pcsim::cli::register_command(20, &setup);
+
+}  // namespace
