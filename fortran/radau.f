@@ -372,8 +372,12 @@
       IFJ = IT2 + N
       IE1 = IFJ + N*N
 *
-*     Transformed tolerances (see Mathematics).
+*     Transformed tolerances (see Mathematics).  Not vectorized: a
+*     SIMD pow (glibc libmvec, which gfortran may call at -O3) rounds
+*     differently from the scalar pow the C++ port uses, and the two
+*     kernels must round identically.
 *
+!GCC$ NOVECTOR
       DO 30 I = 1, N
          IF( ITOL.EQ.0 ) THEN
             QUOT = ATOL( 1 ) / RTOL( 1 )
@@ -685,7 +689,8 @@
          IF( THETA.LT.0.99D0 ) THEN
             FACCON = THETA / ( 1.0D0 - THETA )
             IF( THETA.GT.0.0D0 ) THEN
-               DYTH = FACCON*DYNO*THETA**( NIT - 1 - NEWT ) / FNEWT
+               DYTH = FACCON*DYNO*THETA**DBLE( NIT - 1 - NEWT )
+     $                / FNEWT
             ELSE
                DYTH = 0.0D0
             END IF

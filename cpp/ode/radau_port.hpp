@@ -9,9 +9,9 @@ namespace pcsim::radau_port {
 
 /// Port of RADIIA (see its header in fortran/radau.f and bridge/pcsim_radau.h for every
 /// argument). zwork holds complex numbers as interleaved (re, im) pairs, lzwork of them.
-/// Differences to the Fortran kernel: the LU decompositions are Eigen::PartialPivLU (real and
-/// complex) instead of DGETRF/ZGETRF, and K v products are Eigen's; results agree to rounding.
-/// Returns IDID.
+/// The linear algebra calls the same LAPACK/BLAS routines as the Fortran kernel (DGETRF/ZGETRF,
+/// DGETRS/ZGETRS, DGEMV) and every other operation is done in the same order, so the two kernels
+/// round identically (see radau_port.cpp for why). Returns IDID.
 int integrate(pcsim_radau_fcn fcn, pcsim_radau_jac jac, pcsim_radau_solout solout, void* ctx,
               int ijac, int imas, int itol, int iout, int n, double* t, double tend, double* y,
               double* h, const double* rtol, const double* atol, const double* am, int ldm,
