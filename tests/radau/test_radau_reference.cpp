@@ -112,8 +112,7 @@ BOOST_AUTO_TEST_CASE(vdpol_computed_reference_is_consistent_with_published_neigh
 BOOST_AUTO_TEST_CASE(robertson_matches_published_reference_at_1e11) {
   // Oracle: Bari test set ROBER at t = 1e11 (problems.hpp). y2 ~ 8e-14 there, so atol must be
   // far below it for y2 to be controlled relatively: atol = 1e-14 * rtol resolves all three
-  // components to ~rtol relative. Required: >= -log10(rtol) - 2 digits in every component
-  // (the slow manifold damps the global error, so in practice there are many more).
+  // components to ~rtol relative. Required: >= -log10(rtol) - 2 digits in every component.
   const ReferenceProblem rp = robertson();
   for (double rtol : {1e-6, 1e-8, 1e-10}) {
     const double atol = 1e-14 * rtol;
@@ -121,6 +120,21 @@ BOOST_AUTO_TEST_CASE(robertson_matches_published_reference_at_1e11) {
     const double err = max_relative_error(r.result.y, rp.y_ref);
     BOOST_TEST_MESSAGE("robertson rtol=" << rtol << " max rel err=" << err
                                          << " accepted=" << r.result.stats.accepted);
+    BOOST_TEST(err <= kGlobalFactor * rtol, "rtol=" << rtol << " err=" << err);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(robertson_with_finite_difference_jacobian_matches_reference) {
+  // The finite-difference Jacobian path on the same oracle. Perturbations of
+  // sqrt(u max(1e-5, |y_i|)) ~ 5e-11 are far larger than y2 (~1e-13 .. 4e-5), so the Jacobian
+  // is poor; that slows Newton and blurs the error estimate (measured ~3 rtol instead of
+  // ~0.02 rtol with the analytic Jacobian) but must stay within the same allowance.
+  ReferenceProblem rp = robertson();
+  rp.problem.jacobian = nullptr;
+  for (double rtol : {1e-6, 1e-8, 1e-10}) {
+    const TracedRun r = run_both_and_compare(rp, rtol, 1e-14 * rtol);
+    const double err = max_relative_error(r.result.y, rp.y_ref);
+    BOOST_TEST_MESSAGE("robertson FD Jacobian rtol=" << rtol << " max rel err=" << err);
     BOOST_TEST(err <= kGlobalFactor * rtol, "rtol=" << rtol << " err=" << err);
   }
 }
@@ -167,27 +181,30 @@ BOOST_AUTO_TEST_CASE(robertson_conserves_total_mass_over_whole_run) {
 }
 
 BOOST_AUTO_TEST_CASE(achieved_error_decreases_with_requested_tolerance) {
-  // Tolerance proportionality on van der Pol (published reference): over rtol = 1e-4 ... 1e-10
-  // the achieved error must fall at every step of 1e-2 in rtol (no plateau), and by at least 4
-  // of the 6 decades overall (Radau IIA with its embedded estimator is close to proportional;
-  // H&W's work-precision diagrams show slopes near 1). Robertson is not used here: at t = 1e11
-  // its solution sits on an attracting slow manifold that damps the global error, so its end
-  // value already has ~13-14 correct digits at rtol = 1e-6 and plateaus at the precision of
-  // the reference (see the table in docs/radau-validation.md).
-  const ReferenceProblem rp = van_der_pol_published();
-  for (Kernel kernel : {Kernel::fortran, Kernel::cpp}) {
-    std::vector<double> errs;
-    for (double rtol : {1e-4, 1e-6, 1e-8, 1e-10}) {
-      const TracedRun r = run_traced(rp, kernel, rtol, rtol);
-      BOOST_REQUIRE_MESSAGE(r.result.status == RadauStatus::success, r.result.message);
-      errs.push_back(max_relative_error(r.result.y, rp.y_ref));
-      BOOST_TEST_MESSAGE(to_string(kernel) << " " << rp.name << " rtol=" << rtol << " err="
-                                           << errs.back() << " digits="
-                                           << correct_digits(r.result.y, rp.y_ref));
-    }
-    BOOST_TEST_CONTEXT(to_string(kernel)) {
-      for (std::size_t i = 1; i < errs.size(); ++i) BOOST_TEST(errs[i] < errs[i - 1]);
-      BOOST_TEST(errs.back() <= 1e-4 * errs.front());
+  // Tolerance proportionality against the published references: over rtol = 1e-4 ... 1e-10 the
+  // achieved error must fall at every step of 1e-2 in rtol (no plateau), and by at least 4 of
+  // the 6 decades overall (the kernels control rtol' = 0.1 rtol^(2/3), which falls by 4 decades
+  // over these 6; RADAU5's transformation is calibrated so the achieved error follows rtol).
+  struct Case {
+    ReferenceProblem rp;
+    double atol_factor;
+  };
+  const std::vector<Case> cases = {{van_der_pol_published(), 1.0}, {robertson(), 1e-14}};
+  for (const Case& c : cases) {
+    for (Kernel kernel : {Kernel::fortran, Kernel::cpp}) {
+      std::vector<double> errs;
+      for (double rtol : {1e-4, 1e-6, 1e-8, 1e-10}) {
+        const TracedRun r = run_traced(c.rp, kernel, rtol, c.atol_factor * rtol);
+        BOOST_REQUIRE_MESSAGE(r.result.status == RadauStatus::success, r.result.message);
+        errs.push_back(max_relative_error(r.result.y, c.rp.y_ref));
+        BOOST_TEST_MESSAGE(to_string(kernel) << " " << c.rp.name << " rtol=" << rtol << " err="
+                                             << errs.back() << " digits="
+                                             << correct_digits(r.result.y, c.rp.y_ref));
+      }
+      BOOST_TEST_CONTEXT(c.rp.name << " " << to_string(kernel)) {
+        for (std::size_t i = 1; i < errs.size(); ++i) BOOST_TEST(errs[i] < errs[i - 1]);
+        BOOST_TEST(errs.back() <= 1e-4 * errs.front());
+      }
     }
   }
 }
