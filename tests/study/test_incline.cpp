@@ -1,0 +1,77 @@
+// The incline study on the fake runner: pairs of runs (theta free, locked) per design point,
+// the margins and their differences, the default design axis.
+#define BOOST_TEST_MODULE study_incline
+#include <boost/test/unit_test.hpp>
+
+#include "study/incline.hpp"
+#include "study/table.hpp"
+#include "study_fixtures.hpp"
+
+using namespace pcsim::study;
+
+BOOST_AUTO_TEST_CASE(default_axis_spans_the_deck_minus_the_roller_radius) {
+  const auto dir = study_test::scratch("incline_axis");
+  const auto base = study_test::minimal_case(dir);  // a = 0.5, r = 0.1
+  const Axis a = default_incline_axis(base);
+  BOOST_TEST(a.key == "initial.s0");
+  BOOST_REQUIRE(a.texts.size() == 9u);
+  BOOST_TEST(a.texts.front() == "-0.4");
+  BOOST_TEST(a.texts[4] == "0");
+  BOOST_TEST(a.texts.back() == "0.4");
+}
+
+BOOST_AUTO_TEST_CASE(table_pairs_free_and_locked_runs_and_differences) {
+  const auto dir = study_test::scratch("incline_table");
+  const auto base = study_test::minimal_case(dir);
+  InclineOptions o;
+  o.out_dir = dir;
+  o.jobs = 2;
+  o.plot = false;
+  study_test::FakeRunner runner;
+  const auto r = run_incline_study(base, {default_incline_axis(base)}, runner, o);
+  BOOST_REQUIRE_MESSAGE(r.ok, r.error);
+  BOOST_TEST(r.points == 9u);
+  BOOST_TEST(*runner.calls == 18);
+  const auto t = read_csv(r.table);
+  BOOST_REQUIRE(t);
+  BOOST_REQUIRE(t->rows.size() == 9u);
+  for (const auto& row : t->rows) {
+    const double s0 = std::stod(row[0]);
+    const double a = 0.01 * 280.0 * 280.0 / 400.0;
+    // The fake's closed forms: contact margin 1 - a/g (1 + k s0^2), k = 1 free, 0.5 locked;
+    // rolling margin 1 - (0.1 + 0.01 s0 + 0.02 [free]) / 0.3. Tolerances: a few ulps.
+    const double cf = 1.0 - a / 9.81 * (1.0 + s0 * s0), cl = 1.0 - a / 9.81 * (1.0 + 0.5 * s0 * s0);
+    BOOST_TEST(std::stod(row[1]) == cf, boost::test_tools::tolerance(1e-14));
+    BOOST_TEST(std::stod(row[2]) == cl, boost::test_tools::tolerance(1e-14));
+    BOOST_TEST(std::abs(std::stod(row[3]) - (cf - cl)) < 1e-14);
+    BOOST_TEST(std::abs(std::stod(row[6]) - (-0.02 / 0.3)) < 1e-14);
+    BOOST_TEST(std::stod(row[7]) == 1e-4 * s0);
+    BOOST_TEST(row[8] == "ok");
+  }
+  // The underlying sweep has the lock_theta axis last and is resumable like any sweep.
+  const auto sweep = read_csv(r.sweep.csv);
+  BOOST_REQUIRE(sweep);
+  BOOST_TEST(sweep->header[1] == "constraints.lock_theta");
+  BOOST_TEST(sweep->rows[0][1] == "false");
+  BOOST_TEST(sweep->rows[1][1] == "true");
+  study_test::FakeRunner again;
+  BOOST_TEST(run_incline_study(base, {default_incline_axis(base)}, again, o).sweep.ran == 0u);
+  BOOST_TEST(*again.calls == 0);
+}
+
+BOOST_AUTO_TEST_CASE(failed_design_point_is_reported_in_its_row) {
+  const auto dir = study_test::scratch("incline_fail");
+  const auto base = study_test::minimal_case(dir);
+  InclineOptions o;
+  o.out_dir = dir;
+  o.jobs = 2;
+  o.plot = false;
+  const auto r = run_incline_study(base, {Axis{"parameters.omega", {"280", "1100"}}},
+                                   study_test::FakeRunner{}, o);
+  BOOST_TEST(r.failed == 1u);
+  const auto t = read_csv(r.table);
+  BOOST_REQUIRE(t);
+  BOOST_TEST(t->rows[0][t->header.size() - 2] == "ok");
+  BOOST_TEST(t->rows[1][t->header.size() - 2] == "error");
+  BOOST_TEST(t->rows[1].back().find("theta free") != std::string::npos);
+}
