@@ -37,7 +37,7 @@ std::string gnuplot_script(const std::string& xkey, const std::string& case_name
                            bool index_axis) {
   const std::string x = index_axis ? "0" : "1";  // column 0 = row number
   std::string s;
-  s += "set terminal pngcairo size 900,900 font 'sans,10'\n";
+  s += "set terminal pngcairo noenhanced size 900,900 font 'sans,10'\n";
   s += "set output 'incline.png'\n";
   s += "set datafile separator ','\n";
   s += "set key autotitle columnhead\n";
@@ -46,7 +46,7 @@ std::string gnuplot_script(const std::string& xkey, const std::string& case_name
   s += "set grid\n";
   s += "set xlabel '" + (index_axis ? std::string("design point") : xkey) + "'\n";
   s += "set ylabel 'margin'\n";
-  s += "set key outside right\n";
+  s += "set key below\n";
   s += "plot 'incline.csv' using " + x +
        ":(column('contact_margin_free')) with linespoints lw 2 pt 7 lc rgb '#1f77b4' title "
        "'contact, theta free', \\\n"
