@@ -11,7 +11,7 @@ if(NOT TARGET pcsim_sieve)
 endif()
 pcsim_component(NAME study
   CXX   cpp/study/*.cpp
-  LINKS pcsim_sieve NLopt::nlopt_cxx Threads::Threads)
+  LINKS pcsim_sieve NLopt::nlopt Threads::Threads)
 if(PCSIM_WITH_MPI)
   # Sweeps distribute their points over MPI ranks (cpp/study/cluster.cpp).
   target_link_libraries(pcsim_study PUBLIC MPI::MPI_CXX)
