@@ -57,6 +57,7 @@ int huang_solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen:
                              &result.rank, workspace.idep.data(), workspace.work.data(), lwork);
   }
   result.info = info;
+  if (info < 0) result.H.setZero();  // the kernel returned before writing H: no garbage out
   if (info >= 0) {
     for (int i = 0; i < m; ++i) result.row_dependent[static_cast<std::size_t>(i)] =
         workspace.idep[static_cast<std::size_t>(i)] > 0;

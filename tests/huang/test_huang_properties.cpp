@@ -213,6 +213,7 @@ BOOST_AUTO_TEST_CASE(dependent_rows_are_flagged_exactly_where_constructed) {
       }
     }
   }
+  BOOST_TEST_MESSAGE("dependent rows constructed and checked: " << flagged);
   BOOST_TEST(flagged > 500);  // the sweep exercises the dependent branch a lot
 }
 
