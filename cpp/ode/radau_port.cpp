@@ -674,15 +674,10 @@ void coefficients(double* c, double* t, double* ti, double* dd, double* gam, dou
   c[0] = (4.0 - sq6) / 10.0;
   c[1] = (4.0 + sq6) / 10.0;
   c[2] = 1.0;
-  const double cr81 = std::pow(81.0, 1.0 / 3.0);
-  const double cr9 = std::pow(9.0, 1.0 / 3.0);
-  const double u = (6.0 + cr81 - cr9) / 30.0;
-  const double a = (12.0 - cr81 + cr9) / 60.0;
-  const double b = (cr81 + cr9) * std::sqrt(3.0) / 60.0;
-  const double cno = a * a + b * b;
-  *gam = 1.0 / u;
-  *alp = a / cno;
-  *bet = b / cno;
+  // Eigenvalues of A^-1 (real, complex pair), literals as in RADCOE.
+  *gam = 3.6378342527444957322;
+  *alp = 2.6810828736277521339;
+  *bet = 3.0504301992474105694;
   dd[0] = -(13.0 + 7.0 * sq6) / 3.0;
   dd[1] = (-13.0 + 7.0 * sq6) / 3.0;
   dd[2] = -1.0 / 3.0;
