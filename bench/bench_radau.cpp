@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -30,12 +31,27 @@ struct Setting {
   std::string atol_text;
 };
 
-double seconds_of(const ReferenceProblem& rp, const RadauOptions& o) {
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// Wall time and CPU time of this thread for one integration, in seconds. On a shared machine
+/// the wall time includes waiting for a core; the thread CPU time does not, so the ratio is
+/// taken from it.
+struct Timing {
+  double wall = 0.0;
+  double cpu = 0.0;
+};
+Timing time_one(const ReferenceProblem& rp, const RadauOptions& o) {
+  const double c0 = thread_cpu_seconds();
   const auto t0 = std::chrono::steady_clock::now();
   const RadauResult r = radau_integrate(rp.problem, rp.t0, rp.y0, rp.t_end, o);
   const auto t1 = std::chrono::steady_clock::now();
-  if (r.status != RadauStatus::success) return -1.0;
-  return std::chrono::duration<double>(t1 - t0).count();
+  const double c1 = thread_cpu_seconds();
+  if (r.status != RadauStatus::success) return {-1.0, -1.0};
+  return {std::chrono::duration<double>(t1 - t0).count(), c1 - c0};
 }
 
 double median(std::vector<double> v) {
@@ -107,16 +123,18 @@ int main(int argc, char** argv) {
   };
   std::printf("bench_radau: %s; compiler %s; each time is the median of >= 5 runs per kernel\n",
               cpu_model().c_str(), __VERSION__);
-  std::printf("and >= %.2f s per kernel per row, the two kernels alternating.\n", min_seconds);
+  std::printf("and >= %.2f s wall per kernel per row, the two kernels alternating; CPU = this\n"
+              "thread's CPU time (immune to other processes), wall in parentheses.\n",
+              min_seconds);
   std::printf("Counters a/b: Fortran/C++ when they differ. digits = -log10(max rel. error)\n\n");
   if (markdown) {
     std::printf("| problem | rtol | atol | steps | accepted | rejected | f-evals | LU | "
-                "Fortran [ms] | C++ [ms] | C++/Fortran | digits |\n");
+                "Fortran CPU (wall) [ms] | C++ CPU (wall) [ms] | C++/Fortran (CPU) | digits |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   } else {
-    std::printf("%-20s %7s %10s %6s %6s %5s %7s %6s %12s %12s %7s %7s\n", "problem", "rtol",
-                "atol", "steps", "acc", "rej", "f-evals", "LU", "Fortran[ms]", "C++[ms]",
-                "C++/F", "digits");
+    std::printf("%-20s %7s %10s %6s %6s %5s %7s %6s %16s %16s %7s %7s\n", "problem", "rtol",
+                "atol", "steps", "acc", "rej", "f-evals", "LU", "F cpu(wall)[ms]",
+                "C++ cpu(wall)[ms]", "C++/F", "digits");
   }
 
   for (const Setting& s : settings) {
@@ -135,16 +153,21 @@ int main(int argc, char** argv) {
                     rc.message.c_str());
         continue;
       }
-      std::vector<double> tf, tc;
+      std::vector<double> wf, wc, cf, cc;
       double total_f = 0.0, total_c = 0.0;
-      while (tf.size() < 5 || total_f < min_seconds || total_c < min_seconds) {
-        tf.push_back(seconds_of(rp, of));
-        tc.push_back(seconds_of(rp, oc));
-        total_f += tf.back();
-        total_c += tc.back();
-        if (tf.size() >= 2000) break;
+      while (wf.size() < 5 || total_f < min_seconds || total_c < min_seconds) {
+        const Timing a = time_one(rp, of);
+        const Timing b = time_one(rp, oc);
+        wf.push_back(a.wall);
+        cf.push_back(a.cpu);
+        wc.push_back(b.wall);
+        cc.push_back(b.cpu);
+        total_f += a.wall;
+        total_c += b.wall;
+        if (wf.size() >= 5000) break;
       }
-      const double mf = 1e3 * median(tf), mc = 1e3 * median(tc);
+      const double mf = 1e3 * median(cf), mc = 1e3 * median(cc);
+      const double mwf = 1e3 * median(wf), mwc = 1e3 * median(wc);
       const double df = correct_digits(rf.y, rp.y_ref), dc = correct_digits(rc.y, rp.y_ref);
       char digits[32];
       if (std::abs(df - dc) < 0.005)
@@ -156,21 +179,21 @@ int main(int argc, char** argv) {
       const RadauStats& a = rf.stats;
       const RadauStats& b = rc.stats;
       if (markdown) {
-        std::printf("| %s | %.0e | %s | %s | %s | %s | %s | %s | %.3f | %.3f | %.2f | %s |\n",
+        std::printf("| %s | %.0e | %s | %s | %s | %s | %s | %s | %.3f (%.3f) | %.3f (%.3f) | %.2f | %s |\n",
                     rp.name.c_str(), rtol, atol_text, pair_text(a.steps, b.steps).c_str(),
                     pair_text(a.accepted, b.accepted).c_str(),
                     pair_text(a.rejected, b.rejected).c_str(),
                     pair_text(a.f_evals, b.f_evals).c_str(),
-                    pair_text(a.lu_decompositions, b.lu_decompositions).c_str(), mf, mc,
-                    mc / mf, digits);
+                    pair_text(a.lu_decompositions, b.lu_decompositions).c_str(), mf, mwf, mc,
+                    mwc, mc / mf, digits);
       } else {
-        std::printf("%-20s %7.0e %10s %6s %6s %5s %7s %6s %12.3f %12.3f %7.2f %7s\n",
+        std::printf("%-20s %7.0e %10s %6s %6s %5s %7s %6s %7.3f(%7.3f) %7.3f(%7.3f) %7.2f %7s\n",
                     rp.name.c_str(), rtol, atol_text, pair_text(a.steps, b.steps).c_str(),
                     pair_text(a.accepted, b.accepted).c_str(),
                     pair_text(a.rejected, b.rejected).c_str(),
                     pair_text(a.f_evals, b.f_evals).c_str(),
-                    pair_text(a.lu_decompositions, b.lu_decompositions).c_str(), mf, mc,
-                    mc / mf, digits);
+                    pair_text(a.lu_decompositions, b.lu_decompositions).c_str(), mf, mwf, mc,
+                    mwc, mc / mf, digits);
       }
       std::fflush(stdout);
     }
