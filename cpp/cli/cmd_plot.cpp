@@ -45,12 +45,19 @@ std::string quoted(const std::string& s) {
   return out + "'";
 }
 
+std::string num_text(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
 struct Figure {
   std::string file, title, ylabel;
   std::vector<std::pair<std::string, std::string>> curves;  // column, legend
   std::string hline_label;
   double hline = 0;
   bool has_hline = false;
+  bool hline_in_window = true;  ///< false: the window panel autoscales to the curve alone
 };
 
 void plot(const std::string& dir_text) {
@@ -92,39 +99,47 @@ void plot(const std::string& dir_text) {
     have_f = true;
   }
   std::vector<Figure> figs;
-  figs.push_back({"theta.png", "Desk rotation θ(t)", "θ [rad]", {{"theta", "θ"}}, "", 0, false});
+  figs.push_back({"theta.png", "Desk rotation theta(t)", "theta [rad]", {{"theta", "theta"}}, "", 0, false});
   figs.push_back({"R_u.png", "Normal contact force R_u(t); (3.1) contact kept while R_u > 0",
                   "R_u [N]", {{"R_u", "R_u"}}, "R_u = 0 (contact lost)", 0, true});
   figs.push_back({"fstar.png", "Friction ratio f*(t) = |R_s|/R_u; (3.2) rolling kept while f* < f",
-                  "f* [-]", {{"fstar", "f*"}}, "f (friction coefficient)", f, have_f});
+                  "f* [-]", {{"fstar", "f*"}}, "f (friction coefficient)", f, have_f, false});
   figs.push_back({"xy.png", "Desk displacement x(t) (vertical) and y(t) (horizontal)",
                   "displacement [m]", {{"x", "x"}, {"y", "y"}}, "", 0, false});
 
   std::ostringstream g;
   g << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-       "  set terminal pngcairo size 1000,750 font 'sans,10'\n"
+       "  set terminal pngcairo size 1000,750 font 'sans,10' noenhanced\n"
        "} else {\n"
-       "  set terminal png size 1000,750\n"
+       "  set terminal png size 1000,750 noenhanced\n"
        "}\n"
        "set datafile separator ','\n"
-       "set grid\nset key top right opaque\n";
+       "set grid\nset key top right opaque box\nset format y '%.3g'\n"
+       "set offsets 0, 0, graph 0.3, graph 0.05\n";
   for (const auto& fig : figs) {
     g << "set output " << quoted((dir / fig.file).string()) << "\n";
     g << "set multiplot layout 2,1 title " << quoted(name + ": " + fig.title) << "\n";
     for (int panel = 0; panel < 2; ++panel) {
-      g << "unset object 1\n";
+      g << "unset object 1\nunset arrow 1\n";
       if (panel == 0) {
         g << "set title 'whole run (shaded: summary window)'\n";
         g << "set object 1 rect from " << w0 << ", graph 0 to " << w1
-          << ", graph 1 fc rgb '#ffe0a0' fs solid 0.5 noborder behind\n";
+          << ", graph 1 fc rgb '#ffd080' fs solid 0.6 noborder behind\n";
+        g << "set arrow 1 from " << w0 << ", graph 0 to " << w0
+          << ", graph 1 nohead lc rgb '#e08000' lw 1.5 dt 3\n";
         g << "set xrange [*:*]\n";
       } else {
-        g << "set title " << quoted("summary window t = " + std::to_string(w0) + " .. " +
-                                    std::to_string(w1) + " s")
-          << "\n";
+        char title[128];
+        std::snprintf(title, sizeof title, "summary window t = %.4f .. %.4f s", w0, w1);
+        g << "set title " << quoted(title) << "\n";
         g << "set xrange [" << w0 << ":" << w1 << "]\n";
       }
       g << "set xlabel 't [s]'\nset ylabel " << quoted(fig.ylabel) << "\n";
+      g << "unset label 1\n";
+      if (panel == 1 && fig.has_hline && !fig.hline_in_window)
+        g << "set label 1 " << quoted(fig.hline_label + " = " + num_text(fig.hline) +
+                                      ": off this scale, see the upper panel")
+          << " at graph 0.02, graph 0.93\n";
       g << "plot ";
       bool first = true;
       for (const auto& [c, legend] : fig.curves) {
@@ -132,7 +147,7 @@ void plot(const std::string& dir_text) {
           << col[c] << " with lines lw 1.5 title " << quoted(legend);
         first = false;
       }
-      if (fig.has_hline)
+      if (fig.has_hline && (panel == 0 || fig.hline_in_window))
         g << ", " << fig.hline << " with lines lw 2 dt 2 lc rgb 'red' title "
           << quoted(fig.hline_label);
       g << "\n";

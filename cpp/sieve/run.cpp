@@ -292,8 +292,10 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   const double contact_margin = mon.contact.active ? ru_min / weight : kNaN;
   const double rolling_margin = mon.rolling.active ? 1.0 - fstar_max / set.p.f : kNaN;
   std::string closer = "n/a";
+  // Once R_u <= 0 the friction ratio is undefined (f* = inf): the contact is what failed.
   if (mon.contact.active && mon.rolling.active)
-    closer = contact_margin <= rolling_margin ? "contact (3.1)" : "rolling (3.2)";
+    closer = (!(contact_margin > 0) || contact_margin <= rolling_margin) ? "contact (3.1)"
+                                                                          : "rolling (3.2)";
   j["margins"] = {{"contact", null_if_nan(contact_margin)},
                   {"rolling", null_if_nan(rolling_margin)},
                   {"closer_to_violation", closer}};

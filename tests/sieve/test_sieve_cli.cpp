@@ -1,0 +1,157 @@
+// `pcsim run` and `pcsim plot` from the shell: exit codes, one-line reasons naming the file, the
+// key and the expectation, no output on errors, the default output directory, and a clear
+// message when gnuplot is missing. PCSIM_EXE (set by cmake/sieve.cmake) is the executable.
+#define BOOST_TEST_MODULE sieve_cli
+#include <boost/test/unit_test.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string out;  // stdout and stderr together
+};
+
+std::string exe() {
+  const char* e = std::getenv("PCSIM_EXE");
+  return e ? e : (std::string(PCSIM_BINARY_DIR) + "/pcsim");
+}
+
+// Runs a shell command line in `cwd`, capturing output and the exit status.
+Result sh(const std::string& cmd, const fs::path& cwd = fs::current_path()) {
+  Result r;
+  const std::string full = "cd '" + cwd.string() + "' && " + cmd + " 2>&1";
+  FILE* p = popen(full.c_str(), "r");
+  char buf[4096];
+  std::size_t n;
+  while (p && (n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int st = p ? pclose(p) : -1;
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    static int n = 0;
+    path = fs::temp_directory_path() /
+           ("pcsim_sieve_cli_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+const std::string kCase = std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml";
+
+bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(run_writes_the_two_files_to_the_default_directory_and_exits_0) {
+  TempDir d;
+  const Result r = sh("'" + exe() + "' run '" + kCase + "' --set solver.t_end=0.05", d.path);
+  BOOST_TEST(r.status == 0, r.out);
+  BOOST_TEST(fs::exists(d.path / "out" / "sieve_1995" / "summary.json"));
+  BOOST_TEST(fs::exists(d.path / "out" / "sieve_1995" / "timeseries.csv"));
+  BOOST_TEST(has(r.out, "verdict: contact KEPT"));
+}
+
+BOOST_AUTO_TEST_CASE(kernel_and_form_options_reach_the_summary) {
+  TempDir d;
+  const Result r = sh("'" + exe() + "' run '" + kCase +
+                          "' --set solver.t_end=0.05 --kernel cpp --form dae --out res",
+                      d.path);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  std::ifstream in(d.path / "res" / "summary.json");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  BOOST_TEST(has(ss.str(), "\"kernel\": \"cpp\""));
+  BOOST_TEST(has(ss.str(), "\"form\": \"dae\""));
+}
+
+// Each error class: non-zero exit, one line "pcsim: error: ..." naming the file, the key and
+// the expectation, and nothing written.
+BOOST_AUTO_TEST_CASE(case_errors_exit_nonzero_with_one_line_and_write_nothing) {
+  struct Bad {
+    std::string args, key, expected;
+  };
+  const std::vector<Bad> bad = {
+      {"--set parameters.mass=3", "parameters.mass", "expected a key"},
+      {"--set parameters.m1=heavy", "parameters.m1", "expected a number"},
+      {"--set parameters.m2=-1", "parameters.m2", "expected a positive number"},
+      {"--set parameters.J0=-1", "parameters.J0", "expected a non-negative number"},
+      {"--set parameters.r=0", "parameters.r", "expected a positive number"},
+      {"--set solver.rtol=0", "solver.rtol", "expected a positive number"},
+      {"--set solver.t_end=-2", "solver.t_end", "expected a positive number"},
+      {"--kernel julia", "solver.kernel", "expected \"fortran\" or \"cpp\""},
+      {"--form index3", "solver.form", "expected \"ode\" or \"dae\""},
+  };
+  for (const auto& b : bad) {
+    TempDir d;
+    const Result r = sh("'" + exe() + "' run '" + kCase + "' " + b.args + " --out res", d.path);
+    BOOST_TEST_CONTEXT(b.args << " -> " << r.out) {
+      BOOST_TEST(r.status != 0);
+      BOOST_TEST(has(r.out, "pcsim: error: " + kCase));
+      BOOST_TEST(has(r.out, "'" + b.key + "'"));
+      BOOST_TEST(has(r.out, b.expected));
+      BOOST_TEST(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+      BOOST_TEST(!fs::exists(d.path / "res"));
+    }
+  }
+  TempDir d;
+  const Result r = sh("'" + exe() + "' run no_such_case.toml", d.path);
+  BOOST_TEST(r.status != 0);
+  BOOST_TEST(has(r.out, "no_such_case.toml"));
+}
+
+BOOST_AUTO_TEST_CASE(numerical_failure_exits_3_and_writes_no_summary) {
+  TempDir d;
+  const Result r = sh("'" + exe() + "' run '" + kCase +
+                          "' --set solver.t_end=0.05 --set parameters.omega=1e200 --out res",
+                      d.path);
+  BOOST_TEST(r.status == 3, r.out);
+  BOOST_TEST(has(r.out, "pcsim: error:"));
+  BOOST_TEST(!fs::exists(d.path / "res" / "summary.json"));
+}
+
+BOOST_AUTO_TEST_CASE(plot_writes_four_pngs_or_says_gnuplot_is_missing) {
+  TempDir d;
+  BOOST_TEST_REQUIRE(sh("'" + exe() + "' run '" + kCase + "' --set solver.t_end=0.1 --out res",
+                        d.path).status == 0);
+  // Without gnuplot on PATH: a clear message, non-zero exit, no crash.
+  const Result missing = sh("PATH=/nonexistent '" + exe() + "' plot res", d.path);
+  BOOST_TEST(missing.status != 0);
+  BOOST_TEST(has(missing.out, "needs gnuplot"), missing.out);
+  // With gnuplot (when this machine has it): four non-empty PNG files.
+  if (sh("command -v gnuplot").status == 0) {
+    const Result r = sh("'" + exe() + "' plot res", d.path);
+    BOOST_TEST(r.status == 0, r.out);
+    for (const char* f : {"theta.png", "R_u.png", "fstar.png", "xy.png"}) {
+      BOOST_TEST(fs::exists(d.path / "res" / f), f);
+      if (fs::exists(d.path / "res" / f)) {
+        std::ifstream png(d.path / "res" / f, std::ios::binary);
+        char magic[4] = {};
+        png.read(magic, 4);
+        BOOST_TEST((magic[1] == 'P' && magic[2] == 'N' && magic[3] == 'G'), f);
+      }
+    }
+  }
+  const Result nodir = sh("'" + exe() + "' plot does_not_exist", d.path);
+  BOOST_TEST(nodir.status != 0);
+  BOOST_TEST(has(nodir.out, "does_not_exist"));
+}
