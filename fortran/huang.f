@@ -62,11 +62,15 @@
 *  orthogonal projector onto the orthogonal complement of span(a_1..
 *  a_i), every x_{i+1} solves rows 1..i and x_{i+1} - x1 lies in the
 *  span of those rows; so the final x is x1 - pinv(A) (A x1 - b), the
-*  solution nearest to x1, and H = I - pinv(A) A.  In floating point
-*  the computed H_i drifts away from a symmetric projector (the p_i
-*  lose orthogonality) when A is ill conditioned; applying H_i a second
+*  solution nearest to x1, and H = I - pinv(A) A.  (With q = u/||u||
+*  the plain update is Huang's H - H a a' H / (a' H a) for symmetric
+*  H.)  In floating point the computed H_i stays exactly symmetric but
+*  drifts away from a projector (H_i**2 /= H_i; the p_i lose
+*  orthogonality) when A is ill conditioned; applying H_i a second
 *  time (re-projection) restores orthogonality to working precision,
-*  which is why METH = 0 (modified Huang) is the default.
+*  which is why METH = 0 (modified Huang) is the default.  Measured:
+*  ||H**2 - H|| is 2E+1 for plain and 8E-16 for modified Huang on the
+*  leading 11 rows of the 12-by-12 Hilbert matrix (docs/huang.md).
 *
 *  Arguments
 *  =========
