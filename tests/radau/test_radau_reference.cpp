@@ -15,18 +15,17 @@ using namespace pcsim::testproblems;
 namespace {
 
 // Cross-kernel agreement required by issue 3: the same number of accepted (and rejected)
-// steps, and solutions at t_end within 1e-9 relative (componentwise, scaled by
-// max(|a|, |b|, atol): components below atol are below the resolution the error control asks
-// for). The kernels run the same algorithm; their results differ by rounding only (LAPACK/BLAS
-// versus Eigen), ~1e-16 per operation, and t_end is hit exactly by both.
+// steps, and solutions within 1e-9 relative -- checked here at EVERY accepted step (step end
+// times and solutions, componentwise, scaled by max(|a|, |b|, atol): components below atol
+// are below the resolution the error control asks for). Why per step and why 1e-9 is the
+// right bound: the error estimate is a difference of O(|y|) quantities of size O(rtol' |y|),
+// so any rounding difference between the kernels is amplified by ~1/rtol' in the step-size
+// choice and carried from step to step. With the first kernel version (Eigen LU in the port)
+// this gave step-time differences up to 7e-7 at rtol = 1e-8 on van der Pol while end values
+// still agreed to 1e-14; since the port calls the same LAPACK/BLAS routines in the same order,
+// the two kernels round identically (measured: bitwise equal traces on every problem here).
+// 1e-9 is the issue's contract; a real algorithmic difference shows as >= 1e-6.
 constexpr double kKernelAgreement = 1e-9;
-// The step SEQUENCES cannot agree to 1e-9 at tight tolerances, and this is not a defect: the
-// error estimate is a difference of O(|y|) quantities that comes out O(rtol' |y|), so its
-// relative rounding is ~u / rtol' (1e-16 / 2e-8 = 5e-9 at rtol = 1e-10), and the step-size
-// controller carries it from step to step (measured: up to 7e-7 relative in the step end times
-// for van der Pol at rtol = 1e-8). A different step-size DECISION (another safety factor,
-// another Newton count) would show as >= 1e-2. So the step end times must agree to 1e-4.
-constexpr double kStepTimeAgreement = 1e-4;
 
 // The global error of a tolerance-controlled one-step method is the sum of the local errors
 // over the run, each kept below ~rtol in the weighted norm; for these problems (one fast
@@ -45,8 +44,7 @@ TracedRun run_both_and_compare(const ReferenceProblem& rp, double rtol, double a
     BOOST_TEST((c.result.status == RadauStatus::success), c.result.message);
     BOOST_TEST(f.result.stats.accepted == c.result.stats.accepted);
     BOOST_TEST(f.result.stats.rejected == c.result.stats.rejected);
-    BOOST_TEST(kernel_disagreement(f.result.y, c.result.y, atol) <= kKernelAgreement);
-    BOOST_TEST(step_time_disagreement(f, c) <= kStepTimeAgreement);
+    BOOST_TEST(trace_disagreement(f, c, atol) <= kKernelAgreement);
   }
   return f;
 }
