@@ -3,7 +3,9 @@
 ! arguments in the same order as the kernels (so IDID = -i names the same argument i on both
 ! sides), value scalars, column-major arrays; C function pointers become Fortran procedure
 ! pointers and the opaque context pointer is passed through untouched.
-! C prototypes, callback signatures and array shapes: bridge/pcsim_radau.h.
+! Everything is RECURSIVE (locals on the stack) so concurrent calls from several threads are
+! safe, also under -fcheck=recursion. C prototypes, callback signatures and array shapes:
+! bridge/pcsim_radau.h.
 module pcsim_radau_bridge
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_double_complex, c_ptr, c_funptr, &
                                          c_f_procpointer
@@ -41,12 +43,12 @@ module pcsim_radau_bridge
   end interface
 
   interface
-    subroutine radden(n, t, told, tnew, cont, ldc, yout, info)
+    recursive subroutine radden(n, t, told, tnew, cont, ldc, yout, info)
       integer :: n, ldc, info
       double precision :: t, told, tnew
       double precision :: cont(ldc, *), yout(*)
     end subroutine radden
-    subroutine radcoe(c, t, ti, dd, gam, alp, bet)
+    recursive subroutine radcoe(c, t, ti, dd, gam, alp, bet)
       double precision :: c(3), t(3, 3), ti(3, 3), dd(3), gam, alp, bet
     end subroutine radcoe
   end interface
@@ -55,7 +57,7 @@ module pcsim_radau_bridge
 
 contains
 
-  subroutine pcsim_radau_integrate(fcn, jac, solout, ctx, ijac, imas, itol, iout, n, t, tend, &
+  recursive subroutine pcsim_radau_integrate(fcn, jac, solout, ctx, ijac, imas, itol, iout, n, t, tend, &
                                    y, h, rtol, atol, am, ldm, work, lwork, zwork, lzwork, &
                                    iwork, liwork, idid) bind(C, name="pcsim_radau_integrate")
     type(c_funptr), value, intent(in) :: fcn, jac, solout
@@ -81,7 +83,7 @@ contains
                 atol, am, ldm, work, lwork, zwork, lzwork, iwork, liwork, idid)
   end subroutine pcsim_radau_integrate
 
-  subroutine pcsim_radau_dense(n, t, told, tnew, cont, ldc, yout, info) &
+  recursive subroutine pcsim_radau_dense(n, t, told, tnew, cont, ldc, yout, info) &
       bind(C, name="pcsim_radau_dense")
     integer(c_int), value, intent(in) :: n, ldc
     real(c_double), value, intent(in) :: t, told, tnew
@@ -91,7 +93,7 @@ contains
     call radden(n, t, told, tnew, cont, ldc, yout, info)
   end subroutine pcsim_radau_dense
 
-  subroutine pcsim_radau_coefficients(c, t, ti, dd, gam, alp, bet) &
+  recursive subroutine pcsim_radau_coefficients(c, t, ti, dd, gam, alp, bet) &
       bind(C, name="pcsim_radau_coefficients")
     real(c_double), intent(out) :: c(3), t(3, 3), ti(3, 3), dd(3), gam, alp, bet
     call radcoe(c, t, ti, dd, gam, alp, bet)

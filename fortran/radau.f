@@ -16,9 +16,9 @@
 *>   RADEST  the embedded error estimate with stiff filtering
 *
 *  =====================================================================
-      SUBROUTINE RADIIA( FCN, JAC, SOLOUT, CTX, IJAC, IMAS, ITOL, IOUT,
-     $                   N, T, TEND, Y, H, RTOL, ATOL, AM, LDM,
-     $                   WORK, LWORK, ZWORK, LZWORK, IWORK, LIWORK,
+      RECURSIVE SUBROUTINE RADIIA( FCN, JAC, SOLOUT, CTX, IJAC, IMAS,
+     $                   ITOL, IOUT, N, T, TEND, Y, H, RTOL, ATOL, AM,
+     $                   LDM, WORK, LWORK, ZWORK, LZWORK, IWORK, LIWORK,
      $                   IDID )
       USE, INTRINSIC :: ISO_C_BINDING, ONLY: C_PTR
       IMPLICIT NONE
@@ -143,7 +143,9 @@
 *          returned.
 *
 *  H       (input/output) DOUBLE PRECISION.  On entry the initial step
-*          guess (0: 1.0D-6); on exit the last predicted step size.
+*          guess (0: 1.0D-6; its sign is ignored); on exit a step size
+*          to continue with: min(|step|, |proposal|) of the last
+*          accepted step that was not shortened to hit TEND.
 *
 *  RTOL    (input) DOUBLE PRECISION array, dimension (1) if ITOL = 0,
 *          (N) if ITOL = 1.  Relative tolerances, each > 0.
@@ -231,7 +233,9 @@
 *  ===============
 *
 *  Re-entrant: no COMMON, no SAVE, no I/O; all state lives in the
-*  arguments.  A step attempt starts with the Jacobian at the last
+*  arguments, and every routine is RECURSIVE, so its locals are on
+*  the stack (and -fcheck=recursion, which keeps a static flag per
+*  routine, does not mistake two threads for recursion).  A step attempt starts with the Jacobian at the last
 *  accepted state if it is stale (computed before the last accepted
 *  step with a contraction rate > THET), then the LU pair if h changed.
 *  A singular LU halves h.  Newton failures: contraction rate >= 0.99,
@@ -418,12 +422,13 @@
       END
 *
 *  =====================================================================
-      SUBROUTINE RADCOR( FCN, JAC, SOLOUT, CTX, IJAC, IMAS, IOUT, N, X,
-     $                   XEND, Y, H, AM, LDM, NIND2, NIND3, NMAX, NIT,
-     $                   IPRED, ISTRT, HMAXN, HFIX, SAFE, THET, FNEWT,
-     $                   QUOT1, QUOT2, FACL, FACR, RTT, ATT, Z1, Z2, Z3,
-     $                   W1, W2, W3, F1, F2, F3, Y0, SCAL, CONT, T1, T2,
-     $                   FJAC, E1, E2, ZT, IP1, IP2, ISTAT, IDID )
+      RECURSIVE SUBROUTINE RADCOR( FCN, JAC, SOLOUT, CTX, IJAC, IMAS,
+     $                   IOUT, N, X, XEND, Y, H, AM, LDM, NIND2, NIND3,
+     $                   NMAX, NIT, IPRED, ISTRT, HMAXN, HFIX, SAFE,
+     $                   THET, FNEWT, QUOT1, QUOT2, FACL, FACR, RTT,
+     $                   ATT, Z1, Z2, Z3, W1, W2, W3, F1, F2, F3, Y0,
+     $                   SCAL, CONT, T1, T2, FJAC, E1, E2, ZT, IP1, IP2,
+     $                   ISTAT, IDID )
       USE, INTRINSIC :: ISO_C_BINDING, ONLY: C_PTR
       IMPLICIT NONE
       TYPE(C_PTR)        CTX
@@ -888,7 +893,7 @@
       END
 *
 *  =====================================================================
-      SUBROUTINE RADCOE( C, T, TI, DD, GAM, ALP, BET )
+      RECURSIVE SUBROUTINE RADCOE( C, T, TI, DD, GAM, ALP, BET )
       IMPLICIT NONE
       DOUBLE PRECISION   C( 3 ), T( 3, 3 ), TI( 3, 3 ), DD( 3 ), GAM,
      $                   ALP, BET
@@ -970,8 +975,8 @@
       END
 *
 *  =====================================================================
-      SUBROUTINE RADJAC( FCN, JAC, CTX, IJAC, N, X, Y, Y0, FJAC, T1,
-     $                   NFCN, IERR )
+      RECURSIVE SUBROUTINE RADJAC( FCN, JAC, CTX, IJAC, N, X, Y, Y0,
+     $                   FJAC, T1, NFCN, IERR )
       USE, INTRINSIC :: ISO_C_BINDING, ONLY: C_PTR
       IMPLICIT NONE
       TYPE(C_PTR)        CTX
@@ -1039,8 +1044,8 @@
       END
 *
 *  =====================================================================
-      SUBROUTINE RADDEC( IMAS, N, FAC1, ALPHN, BETAN, FJAC, AM, LDM,
-     $                   E1, E2, IP1, IP2, INFO )
+      RECURSIVE SUBROUTINE RADDEC( IMAS, N, FAC1, ALPHN, BETAN, FJAC,
+     $                   AM, LDM, E1, E2, IP1, IP2, INFO )
       IMPLICIT NONE
       INTEGER            IMAS, N, LDM, INFO
       INTEGER            IP1( N ), IP2( N )
@@ -1109,7 +1114,7 @@
       END
 *
 *  =====================================================================
-      SUBROUTINE RADSLV( N, E1, E2, IP1, IP2, F1, F2, F3, ZT )
+      RECURSIVE SUBROUTINE RADSLV( N, E1, E2, IP1, IP2, F1, F2, F3, ZT )
       IMPLICIT NONE
       INTEGER            N
       INTEGER            IP1( N ), IP2( N )
@@ -1155,9 +1160,9 @@
       END
 *
 *  =====================================================================
-      SUBROUTINE RADEST( FCN, CTX, IMAS, N, X, H, Y, Y0, Z1, Z2, Z3,
-     $                   DD, SCAL, AM, LDM, E1, IP1, REFINE, T1, T2,
-     $                   T3, NFCN, NSOL, ERR, IERR )
+      RECURSIVE SUBROUTINE RADEST( FCN, CTX, IMAS, N, X, H, Y, Y0, Z1,
+     $                   Z2, Z3, DD, SCAL, AM, LDM, E1, IP1, REFINE, T1,
+     $                   T2, T3, NFCN, NSOL, ERR, IERR )
       USE, INTRINSIC :: ISO_C_BINDING, ONLY: C_PTR
       IMPLICIT NONE
       TYPE(C_PTR)        CTX
@@ -1253,7 +1258,8 @@
       END
 *
 *  =====================================================================
-      SUBROUTINE RADDEN( N, T, TOLD, TNEW, CONT, LDC, YOUT, INFO )
+      RECURSIVE SUBROUTINE RADDEN( N, T, TOLD, TNEW, CONT, LDC, YOUT,
+     $                             INFO )
       IMPLICIT NONE
       INTEGER            N, LDC, INFO
       DOUBLE PRECISION   T, TOLD, TNEW

@@ -75,13 +75,19 @@ double dense_one(const void* impl, int i, double s) {
   return out;
 }
 
-std::string describe(const std::exception_ptr& e) {
+// Records why a callback failed; called inside a catch handler, it must not throw itself.
+void record_error(CallContext* c, const char* who, double t) noexcept {
   try {
-    std::rethrow_exception(e);
-  } catch (const std::exception& ex) {
-    return ex.what();
+    std::string what = "unknown exception";
+    try {
+      throw;
+    } catch (const std::exception& ex) {
+      what = ex.what();
+    } catch (...) {
+    }
+    c->error = std::string(who) + " threw at t = " + std::to_string(t) + ": " + what;
   } catch (...) {
-    return "unknown exception";
+    c->error.clear();  // out of memory: the generic message will do
   }
 }
 
@@ -91,8 +97,7 @@ extern "C" void radau_fcn_trampoline(const int* /*n*/, const double* t, const do
   try {
     *ierr = c->problem->rhs(*t, y, f) ? 0 : 1;
   } catch (...) {
-    c->error = "the right-hand side threw at t = " + std::to_string(*t) + ": " +
-               describe(std::current_exception());
+    record_error(c, "the right-hand side", *t);
     *ierr = 2;
   }
 }
@@ -111,8 +116,7 @@ extern "C" void radau_jac_trampoline(const int* n, const double* t, const double
     }
     *ierr = 0;
   } catch (...) {
-    c->error = "the Jacobian threw at t = " + std::to_string(*t) + ": " +
-               describe(std::current_exception());
+    record_error(c, "the Jacobian", *t);
     *ierr = 2;
   }
 }
@@ -139,8 +143,7 @@ extern "C" void radau_solout_trampoline(const int* n, const double* told, const 
       default: *irtrn = 3; break;
     }
   } catch (...) {
-    c->error = "the step callback threw at t = " + std::to_string(*t) + ": " +
-               describe(std::current_exception());
+    record_error(c, "the step callback", *t);
     *irtrn = 3;
   }
 }

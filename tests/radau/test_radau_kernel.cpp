@@ -251,6 +251,7 @@ BOOST_AUTO_TEST_CASE(radau_order_five_on_linear_problem) {
         BOOST_TEST(r.result.stats.rejected == 0);
         err.push_back(r.end_error);
       }
+      BOOST_TEST_MESSAGE(to_string(k) << " end error " << err[0] << " (h = 1/10)");
       for (std::size_t i = 1; i < err.size(); ++i) {
         const double ratio = err[i - 1] / err[i];
         BOOST_TEST_MESSAGE(to_string(k) << " end error " << err[i] << " ratio " << ratio);
@@ -273,6 +274,7 @@ BOOST_AUTO_TEST_CASE(dense_output_has_order_four_between_nodes) {
     BOOST_TEST_CONTEXT("kernel " << to_string(k)) {
       std::vector<double> err;
       for (int m : {10, 20, 40, 80}) err.push_back(run_fixed(k, 1.0 / m).dense_error);
+      BOOST_TEST_MESSAGE(to_string(k) << " dense error " << err[0] << " (h = 1/10)");
       for (std::size_t i = 1; i < err.size(); ++i) {
         const double ratio = err[i - 1] / err[i];
         BOOST_TEST_MESSAGE(to_string(k) << " dense error " << err[i] << " ratio " << ratio);
