@@ -14,6 +14,9 @@ function(pcsim_component)
     message(STATUS "pcsim: component ${C_NAME} has no sources yet; skipped")
     return()
   endif()
+  # The module directory must exist even for components without Fortran, since it is on the
+  # include path (gfortran warns about missing include directories).
+  file(MAKE_DIRECTORY "${CMAKE_BINARY_DIR}/mod/${C_NAME}")
   add_library(pcsim_${C_NAME} STATIC ${srcs})
   set_target_properties(pcsim_${C_NAME} PROPERTIES
     Fortran_MODULE_DIRECTORY "${CMAKE_BINARY_DIR}/mod/${C_NAME}"
