@@ -155,6 +155,33 @@ BOOST_AUTO_TEST_CASE(robertson_matches_published_reference_at_1e11) {
   }
 }
 
+BOOST_AUTO_TEST_CASE(robertson_dense_output_matches_published_value_at_t40) {
+  // Second oracle inside the run: Robertson at t = 40, the classical reference of Hairer &
+  // Wanner, Solving ODEs II (quoted there to 10 digits; independent codes agree to ~1e-11):
+  //   y(40) = (0.7158270687, 9.185534764e-6, 0.2841637457).
+  // t = 40 falls inside some step of the run to 1e11, so it is read from the dense output
+  // (order 3 between the step ends, still controlled by the step sizes). Allowance 100 rtol plus
+  // 2e-10 for the 10-digit rounding of the reference.
+  const ReferenceProblem rp = robertson();
+  const Eigen::Vector3d y40(0.7158270687, 9.185534764e-6, 0.2841637457);
+  for (double rtol : {1e-6, 1e-8, 1e-10}) {
+    for (Kernel kernel : {Kernel::fortran, Kernel::cpp}) {
+      Eigen::Vector3d at40 = Eigen::Vector3d::Constant(std::nan(""));
+      const TracedRun r = run_traced(rp, kernel, rtol, 1e-14 * rtol, [&](const StepInfo& s) {
+        if (s.t_prev < 40.0 && 40.0 <= s.t) s.dense(40.0, at40.data());
+      });
+      const double err = max_relative_error(at40, y40);
+      BOOST_TEST_MESSAGE(to_string(kernel) << " robertson y(40) rtol=" << rtol
+                                           << " max rel err=" << err);
+      BOOST_TEST_CONTEXT(to_string(kernel) << " rtol=" << rtol) {
+        BOOST_TEST((r.result.status == RadauStatus::success), r.result.message);
+        BOOST_TEST(at40.allFinite());  // t = 40 was inside an accepted step
+        BOOST_TEST(err <= kGlobalFactor * rtol + 2e-10);
+      }
+    }
+  }
+}
+
 BOOST_AUTO_TEST_CASE(robertson_with_finite_difference_jacobian_matches_reference) {
   // The finite-difference Jacobian path on the same oracle. Perturbations of
   // sqrt(u max(1e-5, |y_i|)) ~ 5e-11 are far larger than y2 (~1e-13 .. 4e-5), so the Jacobian
