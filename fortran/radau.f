@@ -113,9 +113,10 @@
 *          TOLD, T: the step just accepted; Y(N): the solution at T,
 *          which SOLOUT may modify; CONT(LDC,4): the continuation
 *          coefficients for RADDEN.  On return IRTRN = 0: proceed;
-*          1: Y was modified (the next step restarts its Newton
-*          iteration from zero stage values); 2: stop (IDID = 1);
-*          any other value: fatal error (IDID = 5).
+*          1: Y was modified (if by more than the tolerance, i.e.
+*          weighted RMS norm > 1, the next Newton iteration starts from
+*          zero stage values instead of the extrapolated polynomial);
+*          2: stop (IDID = 1); any other value: fatal error (IDID = 5).
 *
 *  CTX     (input) TYPE(C_PTR), opaque context handed to FCN, JAC and
 *          SOLOUT unchanged.
@@ -818,7 +819,14 @@
             IDID = 1
             GO TO 900
          ELSE IF( IERR.EQ.1 ) THEN
-            STARTZ = .TRUE.
+*           Y was modified.  A change within the tolerance (weighted
+*           RMS norm <= 1, e.g. a projection) keeps the extrapolated
+*           Newton start; a larger one restarts from zero.
+            SUM = 0.0D0
+            DO 520 I = 1, N
+               SUM = SUM + ( ( Y( I ) - CONT( I, 1 ) ) / SCAL( I ) )**2
+  520       CONTINUE
+            STARTZ = SQRT( SUM / DBLE( N ) ).GT.1.0D0
          ELSE IF( IERR.NE.0 ) THEN
             IDID = 5
             GO TO 900

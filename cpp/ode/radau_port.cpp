@@ -521,8 +521,13 @@ int Core::run(double& x, double xend, double* y, double& h) {
       if (irtrn == 2) {
         idid = 1;
         break;
-      } else if (irtrn == 1) {
-        startz = true;
+      } else if (irtrn == 1) {  // y modified: zero Newton start only if beyond the tolerance
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) {
+          const double d = (y[i] - cont_[i]) / scal_[i];
+          sum = sum + d * d;
+        }
+        startz = std::sqrt(sum / double(n)) > 1.0;
       } else if (irtrn != 0) {
         idid = 5;
         break;

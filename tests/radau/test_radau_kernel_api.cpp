@@ -383,3 +383,20 @@ BOOST_AUTO_TEST_CASE(concurrent_integrations_match_sequential_results_exactly) {
     }
   }
 }
+
+BOOST_AUTO_TEST_CASE(integrates_backward_in_time_and_accepts_an_empty_interval) {
+  // y' = -y from y(0) = 1 to t = -1: exact e. Tolerance 100 * rtol (global error allowance).
+  // t_end = t0 returns y0 unchanged with success and zero counters.
+  for (Kernel k : kKernels) {
+    RadauOptions o;
+    o.rtol = o.atol = 1e-8;
+    const RadauResult r = run(k, decay(), Eigen::VectorXd::Ones(1), -1.0, o);
+    BOOST_TEST((r.status == RadauStatus::success), r.message);
+    BOOST_TEST(r.t == -1.0);
+    BOOST_TEST(std::abs(r.y[0] - std::exp(1.0)) < 1e-6 * std::exp(1.0));
+    const RadauResult e = run(k, decay(), Eigen::VectorXd::Constant(1, 3.0), 0.0, o);
+    BOOST_TEST((e.status == RadauStatus::success), e.message);
+    BOOST_TEST(e.y[0] == 3.0);
+    BOOST_TEST(e.stats.steps == 0);
+  }
+}
