@@ -37,6 +37,7 @@ struct ConstraintInfo {
 //     template <class S> S kinetic_energy(const VecX<S>& q, const VecX<S>& qd, const S& t) const;
 //     template <class S> S potential_energy(const VecX<S>& q, const S& t) const;
 //     // optional (detected; absent means "none")
+//     static constexpr int kCoordinates = 6;   // n at compile time: fixed-size AD, ~2x faster
 //     template <class S> S dissipation(const VecX<S>& q, const VecX<S>& qd, const S& t) const;
 //                                                            // Rayleigh F: Q gets −∂F/∂q̇
 //     template <class S> VecX<S> applied_forces(const VecX<S>& q, const VecX<S>& qd,
@@ -54,7 +55,9 @@ struct ConstraintInfo {
 // velocity_form() only for velocity ones. Q = −∂V/∂q − ∂F/∂q̇ + applied_forces.
 // T must be quadratic in q̇ (M = ∂²T/∂q̇² is then independent of q̇). S is double or an
 // Eigen AutoDiffScalar: write the functions with `using std::sin; sin(x)` style (ADL), no
-// branches on derivative values, and no static/global mutable state.
+// branches on derivative values, and no static/global mutable state. Write constants as plain
+// doubles (0.5 * m * v) rather than S(0.5): without kCoordinates, an S(c) with an empty
+// derivative vector that meets a compound AD expression trips an Eigen size assertion.
 // A model may have at most kMaxCoordinates coordinates (the AD types are small-buffer types).
 
 inline constexpr int kMaxCoordinates = 16;

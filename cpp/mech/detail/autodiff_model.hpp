@@ -14,13 +14,33 @@
 
 namespace pcsim::mech::detail {
 
-// Derivative vectors: dynamic size, but stored in a fixed buffer (no heap allocation).
-// Inner level: up to 2n+1 directions (q, q̇, t); outer level: up to n directions (q̇).
-inline constexpr int kMaxInner = 2 * kMaxCoordinates + 1;
-using InnerDer = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxInner, 1>;
-using AD1 = Eigen::AutoDiffScalar<InnerDer>;
-using OuterDer = Eigen::Matrix<AD1, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxCoordinates, 1>;
-using AD2 = Eigen::AutoDiffScalar<OuterDer>;
+// The AD types for a model with N coordinates (N = Eigen::Dynamic when the model does not
+// declare `static constexpr int kCoordinates`). Fixed N gives fixed-size derivative vectors,
+// which Eigen unrolls (about 2x faster than the small-buffer dynamic ones); with Dynamic the
+// vectors have dynamic size but a fixed buffer (kMaxCoordinates), so nothing is heap-allocated.
+template <int N> struct AdTypes {
+  static constexpr bool kFixed = N != Eigen::Dynamic;
+  static constexpr int kN = kFixed ? N : Eigen::Dynamic;
+  static constexpr int kN1 = kFixed ? N + 1 : Eigen::Dynamic;
+  static constexpr int kMaxN = kFixed ? N : kMaxCoordinates;
+  static constexpr int kMaxN1 = kFixed ? N + 1 : kMaxCoordinates + 1;
+  using Inner = Eigen::Matrix<double, kN1, 1, Eigen::ColMajor, kMaxN1, 1>;  // (q̇, ε) or (q, t)
+  using AD1 = Eigen::AutoDiffScalar<Inner>;
+  using Outer = Eigen::Matrix<AD1, kN, 1, Eigen::ColMajor, kMaxN, 1>;  // q̇
+  using AD2 = Eigen::AutoDiffScalar<Outer>;
+  using Grad = Eigen::Matrix<double, kN, 1, Eigen::ColMajor, kMaxN, 1>;  // q or q̇
+  using ADG = Eigen::AutoDiffScalar<Grad>;
+  using HolOuter = Eigen::Matrix<AD1, 1, 1>;  // one direction (q̇, 1) in (q, t)
+  using ADH = Eigen::AutoDiffScalar<HolOuter>;
+  using ADD = Eigen::AutoDiffScalar<Eigen::Matrix<double, 1, 1>>;  // one direction
+};
+
+template <class, class = void> struct static_size {
+  static constexpr int value = Eigen::Dynamic;
+};
+template <class I> struct static_size<I, std::void_t<decltype(I::kCoordinates)>> {
+  static constexpr int value = I::kCoordinates;
+};
 
 // ---- detection of the optional members of a model struct ----------------------------------
 template <class, class = void> struct has_dissipation : std::false_type {};
@@ -62,11 +82,24 @@ struct has_derived<I, std::void_t<decltype(std::declval<const I&>().derived_name
 template <class V> inline auto der_at(const V& v, int k) -> typename V::Scalar {
   return k < v.size() ? v[k] : typename V::Scalar(0);
 }
-inline AD1 ad1_const(double value, int m) { return AD1(value, InnerDer::Zero(m)); }
-inline AD1 ad1_var(double value, int m, int k) { return AD1(value, InnerDer::Unit(m, k)); }
+// An AD scalar with value v and derivative vector 0 (constant) or e_k (variable k), size m.
+template <class A> inline A ad_const(double value, int m) {
+  return A(value, A::DerType::Zero(m));
+}
+template <class A> inline A ad_var(double value, int m, int k) {
+  return A(value, A::DerType::Unit(m, k));
+}
 
 template <class Impl>
 class AutoDiffModel final : public Model {
+  using Ad = AdTypes<static_size<Impl>::value>;
+  using AD1 = typename Ad::AD1;
+  using AD2 = typename Ad::AD2;
+  using ADG = typename Ad::ADG;
+  using ADH = typename Ad::ADH;
+  using ADD = typename Ad::ADD;
+  using Outer = typename Ad::Outer;
+
  public:
   explicit AutoDiffModel(Impl impl) : impl_(std::move(impl)) {
     name_ = impl_.name();
@@ -75,53 +108,67 @@ class AutoDiffModel final : public Model {
       throw InputError("model '" + name_ + "': " + std::to_string(coordinates_.size()) +
                        " coordinates; a model needs 1.." + std::to_string(kMaxCoordinates));
     }
+    if (Ad::kFixed && static_cast<int>(coordinates_.size()) != static_size<Impl>::value) {
+      throw InputError("model '" + name_ + "': kCoordinates = " +
+                       std::to_string(static_size<Impl>::value) + " but coordinates() has " +
+                       std::to_string(coordinates_.size()) + " names");
+    }
     if constexpr (has_constraints<Impl>::value) constraints_ = impl_.constraints();
     if constexpr (has_derived<Impl>::value) derived_names_ = impl_.derived_names();
   }
 
+  // One nested pass whose inner directions are (q̇, ε) and outer directions q̇, where ε moves
+  // along the motion, (q, q̇, t) + ε (q̇, 0, 1), plus one first-order pass for ∂T/∂q:
+  //   p_j = ∂T/∂q̇_j (outer derivative j); its inner derivatives are M_jk (k < n) and
+  //   dp_j/dε = (∂p_j/∂q) q̇ + ∂p_j/∂t (slot n), so h_j = dp_j/dε − ∂T/∂q_j.
+  // (n+1)(n+1) numbers per operation instead of (2n+2)(n+1) for the plain (q, q̇, t) x q̇ nest.
+  // Every seed carries full-size (zero) derivative vectors: Eigen's AutoDiffScalar does not make
+  // empty and non-empty derivative expressions coherent in nested arithmetic.
   void kinetic_terms(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                      Eigen::MatrixXd& M, Eigen::VectorXd& h) const override {
     const int n = this->n();
-    const int m = 2 * n + 1;  // inner directions: q (n), q̇ (n), t (1)
+    const int m = n + 1;
     VecX<AD2> Q2(n), QD2(n);
-    OuterDer zero_outer(n);
-    for (int k = 0; k < n; ++k) zero_outer[k] = ad1_const(0.0, m);
+    Outer zero_outer(n);
+    for (int k = 0; k < n; ++k) zero_outer[k] = ad_const<AD1>(0.0, m);
     for (int i = 0; i < n; ++i) {
-      Q2[i] = AD2(ad1_var(q[i], m, i), zero_outer);
-      OuterDer seed = zero_outer;
-      seed[i] = ad1_const(1.0, m);
-      QD2[i] = AD2(ad1_var(qd[i], m, n + i), seed);
+      Q2[i] = AD2(AD1(q[i], AD1::DerType::Unit(m, n) * qd[i]), zero_outer);
+      Outer seed = zero_outer;
+      seed[i] = ad_const<AD1>(1.0, m);
+      QD2[i] = AD2(ad_var<AD1>(qd[i], m, i), seed);
     }
-    const AD2 T2(ad1_var(t, m, 2 * n), zero_outer);
+    const AD2 T2(ad_var<AD1>(t, m, n), zero_outer);
     const AD2 T = impl_.kinetic_energy(Q2, QD2, T2);
-    const auto& dT = T.value().derivatives();  // ∂T/∂(q, q̇, t)
+    // ∂T/∂q by a first-order pass in q alone.
+    VecX<ADG> qa(n), qda(n);
+    for (int i = 0; i < n; ++i) {
+      qa[i] = ad_var<ADG>(q[i], n, i);
+      qda[i] = ad_const<ADG>(qd[i], n);
+    }
+    const ADG T1 = impl_.kinetic_energy(qa, qda, ad_const<ADG>(t, n));
     for (int j = 0; j < n; ++j) {
-      const AD1 pj = der_at(T.derivatives(), j);  // ∂T/∂q̇_j and its derivatives
+      const AD1 pj = der_at(T.derivatives(), j);
       const auto& d2 = pj.derivatives();
-      double hj = der_at(d2, 2 * n) - der_at(dT, j);
-      for (int k = 0; k < n; ++k) {
-        M(j, k) = der_at(d2, n + k);
-        hj += der_at(d2, k) * qd[k];
-      }
-      h[j] = hj;
+      for (int k = 0; k < n; ++k) M(j, k) = der_at(d2, k);
+      h[j] = der_at(d2, n) - der_at(T1.derivatives(), j);
     }
   }
 
   void forces(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
               Eigen::VectorXd& Q) const override {
     const int n = this->n();
-    VecX<AD1> qa(n);
-    for (int i = 0; i < n; ++i) qa[i] = ad1_var(q[i], n, i);
-    const AD1 ta = ad1_const(t, n);
-    const AD1 V = impl_.potential_energy(qa, ta);
+    VecX<ADG> qa(n);
+    for (int i = 0; i < n; ++i) qa[i] = ad_var<ADG>(q[i], n, i);
+    const ADG ta = ad_const<ADG>(t, n);
+    const ADG V = impl_.potential_energy(qa, ta);
     for (int i = 0; i < n; ++i) Q[i] = -der_at(V.derivatives(), i);
     if constexpr (has_dissipation<Impl>::value) {
-      VecX<AD1> qc(n), qda(n);
+      VecX<ADG> qc(n), qda(n);
       for (int i = 0; i < n; ++i) {
-        qc[i] = ad1_const(q[i], n);
-        qda[i] = ad1_var(qd[i], n, i);
+        qc[i] = ad_const<ADG>(q[i], n);
+        qda[i] = ad_var<ADG>(qd[i], n, i);
       }
-      const AD1 F = impl_.dissipation(qc, qda, ta);
+      const ADG F = impl_.dissipation(qc, qda, ta);
       for (int i = 0; i < n; ++i) Q[i] -= der_at(F.derivatives(), i);
     }
     if constexpr (has_applied_forces<Impl>::value) {
@@ -171,16 +218,17 @@ class AutoDiffModel final : public Model {
     if constexpr (has_holonomic<Impl>::value) {
       const int n = this->n();
       const int m = n + 1;
-      VecX<AD2> qa(n);
+      using HolOuter = typename Ad::HolOuter;
+      VecX<ADH> qa(n);
       for (int k = 0; k < n; ++k) {
-        OuterDer d(1);
-        d[0] = ad1_const(qd[k], m);
-        qa[k] = AD2(ad1_var(q[k], m, k), d);
+        HolOuter d;
+        d[0] = ad_const<AD1>(qd[k], m);
+        qa[k] = ADH(ad_var<AD1>(q[k], m, k), d);
       }
-      OuterDer dt(1);
-      dt[0] = ad1_const(1.0, m);
-      const AD2 ta(ad1_var(t, m, n), dt);
-      const AD2 phi = impl_.holonomic(i, qa, ta);
+      HolOuter dt;
+      dt[0] = ad_const<AD1>(1.0, m);
+      const ADH ta(ad_var<AD1>(t, m, n), dt);
+      const ADH phi = impl_.holonomic(i, qa, ta);
       const auto& grad = phi.value().derivatives();
       const AD1 dphi = der_at(phi.derivatives(), 0);
       const auto& hd = dphi.derivatives();
@@ -203,12 +251,13 @@ class AutoDiffModel final : public Model {
                     Eigen::MatrixXd& g, Eigen::VectorXd& g0, Eigen::VectorXd& gamma, int r) const {
     if constexpr (has_velocity_form<Impl>::value) {
       const int n = this->n();
-      VecX<AD1> qa(n);
-      for (int k = 0; k < n; ++k) qa[k] = AD1(q[k], InnerDer::Constant(1, qd[k]));
-      const AD1 ta(t, InnerDer::Constant(1, 1.0));
-      VecX<AD1> row(n);
-      for (int k = 0; k < n; ++k) row[k] = ad1_const(0.0, 1);
-      AD1 c = ad1_const(0.0, 1);
+      using Dir = typename ADD::DerType;
+      VecX<ADD> qa(n);
+      for (int k = 0; k < n; ++k) qa[k] = ADD(q[k], Dir::Constant(1, qd[k]));
+      const ADD ta(t, Dir::Constant(1, 1.0));
+      VecX<ADD> row(n);
+      for (int k = 0; k < n; ++k) row[k] = ad_const<ADD>(0.0, 1);
+      ADD c = ad_const<ADD>(0.0, 1);
       impl_.velocity_form(i, qa, ta, row, c);
       double gam = der_at(c.derivatives(), 0);
       for (int k = 0; k < n; ++k) {

@@ -12,6 +12,7 @@ namespace {
 
 struct Pendulum {
   double m, L, grav;
+  static constexpr int kCoordinates = 2;  // optional: fixed-size (faster) AD
 
   std::string name() const { return "pendulum"; }
   std::vector<std::string> coordinates() const { return {"x", "y"}; }

@@ -14,6 +14,7 @@ namespace {
 
 struct RollingDisk {
   double m, r, J, alpha, grav;
+  static constexpr int kCoordinates = 3;  // optional: fixed-size (faster) AD
 
   std::string name() const { return "rolling_disk"; }
   std::vector<std::string> coordinates() const { return {"s", "w", "phi"}; }

@@ -17,6 +17,7 @@ namespace {
 
 struct SliderCrank {
   double m1, l1, m2, l2, m3, grav, tau, c;
+  static constexpr int kCoordinates = 5;  // optional: fixed-size (faster) AD
 
   std::string name() const { return "slider_crank"; }
   std::vector<std::string> coordinates() const { return {"phi1", "x2", "y2", "phi2", "x3"}; }
