@@ -31,7 +31,8 @@ std::string scalar_text(const nlohmann::json& v) {
 
 const std::vector<std::string>& summary_columns() {
   static const std::vector<std::string> columns = {
-      "amplitude.x", "amplitude.y", "amplitude.theta", "theta_mean",
+      "amplitude.x", "amplitude.y", "amplitude.theta", "theta_mean", "theta_max_abs",
+      "theta_max_abs_run",
       "R_u_min", "R_u_max", "R_u_min_over_weight", "fstar_max",
       "contact_kept", "rolling_kept", "first_violation.contact", "first_violation.rolling",
       "constraint_residual_max",

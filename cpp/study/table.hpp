@@ -14,7 +14,7 @@
 namespace pcsim::study {
 
 /// The summary columns of sweep.csv, in order: every scalar of summary.json that is a
-/// deterministic function of the case (amplitude.*, theta_mean, R_u_*, fstar_max, verdicts,
+/// deterministic function of the case (amplitude.*, theta_mean, theta_max_abs*, R_u_*, fstar_max, verdicts,
 /// first_violation.*, constraint_residual_max, q_end.*, stats.* except wall_seconds), then the
 /// two design margins: contact_margin = min R_u/(m2 g) and rolling_margin = 1 - max f*/f.
 /// stats.wall_seconds is left out on purpose: it differs from run to run, and a sweep's table
