@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -398,5 +399,68 @@ BOOST_AUTO_TEST_CASE(integrates_backward_in_time_and_accepts_an_empty_interval) 
     BOOST_TEST((e.status == RadauStatus::success), e.message);
     BOOST_TEST(e.y[0] == 3.0);
     BOOST_TEST(e.stats.steps == 0);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(failure_and_retry_paths_take_the_same_steps_in_both_kernels) {
+  // The rarely used branches (f unable to evaluate, step-size underflow, step limit, stop)
+  // must make the same decisions in the port as in the Fortran kernel: equal counters, equal
+  // end states (bit for bit: the kernels round identically).
+  auto scenario = [](int which, Kernel k) {
+    RadauOptions o;
+    o.kernel = k;
+    o.rtol = o.atol = 1e-7;
+    if (which == 0) {  // f fails more than 0.05 past the last accepted time
+      auto t_acc = std::make_shared<double>(0.0);
+      OdeProblem p = van_der_pol(1e-3);
+      auto base = p.rhs;
+      p.rhs = [t_acc, base](double t, const double* y, double* f) {
+        return t <= *t_acc + 0.05 && base(t, y, f);
+      };
+      o.h0 = 0.3;
+      return radau_integrate(p, 0.0, Eigen::Vector2d(2, 0), 1.0, o, [t_acc](StepInfo& s) {
+        *t_acc = s.t;
+        return StepAction::proceed;
+      });
+    }
+    if (which == 1) {  // blow-up: step too small
+      OdeProblem p;
+      p.n = 1;
+      p.rhs = [](double, const double* y, double* f) {
+        f[0] = y[0] * y[0];
+        return true;
+      };
+      return radau_integrate(p, 0.0, Eigen::VectorXd::Ones(1), 2.0, o);
+    }
+    if (which == 2) {  // step limit
+      o.max_steps = 40;
+      return radau_integrate(van_der_pol(1e-4), 0.0, Eigen::Vector2d(2, 0), 2.0, o);
+    }
+    return radau_integrate(van_der_pol(1e-4), 0.0, Eigen::Vector2d(2, 0), 2.0, o,
+                           [](StepInfo& s) {
+                             return s.t > 0.8 ? StepAction::stop : StepAction::proceed;
+                           });
+  };
+  const RadauStatus expected[] = {RadauStatus::success, RadauStatus::step_too_small,
+                                  RadauStatus::too_many_steps,
+                                  RadauStatus::stopped_by_callback};
+  for (int which = 0; which < 4; ++which) {
+    BOOST_TEST_CONTEXT("scenario " << which) {
+      const RadauResult f = scenario(which, Kernel::fortran);
+      const RadauResult c = scenario(which, Kernel::cpp);
+      BOOST_TEST((f.status == expected[which]), f.message);
+      BOOST_TEST((c.status == expected[which]), c.message);
+      BOOST_TEST(f.stats.f_evals == c.stats.f_evals);
+      BOOST_TEST(f.stats.jacobians == c.stats.jacobians);
+      BOOST_TEST(f.stats.lu_decompositions == c.stats.lu_decompositions);
+      BOOST_TEST(f.stats.linear_solves == c.stats.linear_solves);
+      BOOST_TEST(f.stats.steps == c.stats.steps);
+      BOOST_TEST(f.stats.accepted == c.stats.accepted);
+      BOOST_TEST(f.stats.rejected == c.stats.rejected);
+      BOOST_TEST(f.t == c.t);
+      BOOST_TEST(f.h_last == c.h_last);
+      BOOST_TEST((f.y.array() == c.y.array()).all());
+      if (which == 0) BOOST_TEST(f.stats.rejected > 0);
+    }
   }
 }
