@@ -114,8 +114,9 @@
 *          which SOLOUT may modify; CONT(LDC,4): the continuation
 *          coefficients for RADDEN.  On return IRTRN = 0: proceed;
 *          1: Y was modified (if by more than the tolerance, i.e.
-*          weighted RMS norm > 1, the next Newton iteration starts from
-*          zero stage values instead of the extrapolated polynomial);
+*          weighted RMS norm > 1, the next step starts its Newton
+*          iteration from zero stage values instead of the extrapolated
+*          polynomial, with a fresh Jacobian);
 *          2: stop (IDID = 1); any other value: fatal error (IDID = 5).
 *
 *  CTX     (input) TYPE(C_PTR), opaque context handed to FCN, JAC and
@@ -866,7 +867,8 @@
             NEEDLU = .TRUE.
          END IF
       END IF
-      NEEDJ = THETA.GT.THET
+*     Fresh Jacobian after slow convergence or a large state change.
+      NEEDJ = THETA.GT.THET .OR. STARTZ
       IF( NEEDJ ) NEEDLU = .TRUE.
       GO TO 100
 *

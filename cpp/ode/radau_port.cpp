@@ -561,7 +561,7 @@ int Core::run(double& x, double xend, double* y, double& h) {
         needlu = true;
       }
     }
-    needj = theta > s_.thet;
+    needj = theta > s_.thet || startz;  // slow convergence or a large state change
     if (needj) needlu = true;
   }
 
