@@ -77,7 +77,7 @@ Axis default_incline_axis(const sieve::Case& base) {
   const double r = base.table.at_path("parameters.r").value_or(0.1);
   const double half = a > r ? a - r : a;
   Axis axis{"initial.s0", {}};
-  for (int i = 0; i < 9; ++i) axis.texts.push_back(format_number(-half + 2.0 * half * i / 8.0));
+  for (int i = 0; i < 9; ++i) axis.texts.push_back(format_number(round_decimal(-half + 2.0 * half * i / 8.0)));
   return axis;
 }
 

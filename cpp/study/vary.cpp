@@ -2,6 +2,8 @@
 #include "study/vary.hpp"
 
 #include <charconv>
+#include <cstdio>
+#include <cstring>
 #include <cmath>
 #include <set>
 #include <string_view>
@@ -76,6 +78,14 @@ void check_value(const std::string& spec, const sieve::Case& base, const std::st
 
 }  // namespace
 
+double round_decimal(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  double r = v;
+  std::from_chars(buf, buf + std::strlen(buf), r);
+  return r;
+}
+
 std::string format_number(double v) {
   char buf[64];
   const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
@@ -110,12 +120,13 @@ Axis parse_vary(const std::string& spec, const sieve::Case& base) {
     if (static_cast<unsigned long long>(count) > Grid::max_points())
       reject(spec, "COUNT " + std::string(count_text) + " is too large");
     for (long long i = 0; i < count; ++i) {
-      // (stop - start) * i is exact for moderate i, so the division rounds once and the
-      // ends are exactly START and STOP.
+      // Evenly spaced, ends exactly START and STOP; inner values rounded to 12 significant
+      // digits so that 0.1 steps read 0.3, not 0.30000000000000004 (the case gets exactly
+      // the value written to the CSV either way).
       const double v = i == count - 1 ? stop
                                       : start + (stop - start) * static_cast<double>(i) /
                                                     static_cast<double>(count - 1);
-      axis.texts.push_back(format_number(v));
+      axis.texts.push_back(format_number(round_decimal(v)));
     }
   } else if (fields.size() == 1) {  // v1,v2,...
     for (std::string_view item : split(rest, ','))

@@ -43,6 +43,10 @@ void check_distinct_keys(const std::vector<std::string>& keys);
 /// Shortest decimal text that parses back to exactly `v` ("0.3", "280", "1e-05").
 std::string format_number(double v);
 
+/// v rounded to 12 significant decimal digits (grid values that read as the decimals a user
+/// typed: -0.4 + 0.1 gives -0.3, not -0.30000000000000004).
+double round_decimal(double v);
+
 /// The full grid spanned by the axes. Point i has coordinates coords(i); the last axis varies
 /// fastest.
 class Grid {
