@@ -92,8 +92,8 @@ const std::vector<KeySpec>& schema() {
       {"constraints", "lock_theta", Type::boolean, Rule::none, "theta = 0"},
       {"solver", "kernel", Type::string, Rule::kernel, "the kernel implementation"},
       {"solver", "form", Type::string, Rule::form, "the formulation"},
-      {"solver", "rtol", Type::number, Rule::positive, "relative tolerance", 1e-8},
-      {"solver", "atol", Type::number, Rule::positive, "absolute tolerance", 1e-10},
+      {"solver", "rtol", Type::number, Rule::positive, "relative tolerance", 1e-6},
+      {"solver", "atol", Type::number, Rule::positive, "absolute tolerance", 1e-8},
       {"solver", "t_end", Type::number, Rule::positive, "end time, s", 10.0},
       {"solver", "h0", Type::number, Rule::non_negative, "initial step, s (0: automatic)", 0.0},
       {"output", "dt", Type::number, Rule::positive, "output interval, s", 1e-3},
@@ -249,7 +249,7 @@ void fill_and_validate(const std::filesystem::path& file, toml::table& t) {
   if (!con.contains("lock_theta")) con.insert("lock_theta", false);
   toml::table& sol = *t["solver"].as_table();
   if (!sol.contains("kernel")) sol.insert("kernel", "fortran");
-  if (!sol.contains("form")) sol.insert("form", "dae");
+  if (!sol.contains("form")) sol.insert("form", "ode");
   toml::table& out = *t["output"].as_table();
   if (!out.contains("summary_periods")) out.insert("summary_periods", int64_t{5});
   // Types and ranges.

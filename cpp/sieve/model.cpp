@@ -1,10 +1,17 @@
 // Building the sieve Model of a case (see model.hpp).
 #include "sieve/model.hpp"
 
+#include "sieve/analytic_model.hpp"
+
 namespace pcsim::sieve {
 
 const char* to_string(ModelForm form) {
-  return form == ModelForm::geometric ? "geometric" : "closed_form";
+  switch (form) {
+    case ModelForm::geometric: return "geometric";
+    case ModelForm::closed_form: return "closed_form";
+    case ModelForm::analytic: return "analytic";
+  }
+  return "?";
 }
 
 std::shared_ptr<const mech::Model> make_sieve_model(const SieveSettings& settings,
@@ -12,6 +19,7 @@ std::shared_ptr<const mech::Model> make_sieve_model(const SieveSettings& setting
   SieveCommon common;
   common.p = settings.p;
   common.rolling_constant = settings.q0[3] - settings.p.r * settings.q0[5];
+  if (form == ModelForm::analytic) return make_analytic_sieve_model(common);
   if (form == ModelForm::closed_form) {
     SieveClosedForm m;
     static_cast<SieveCommon&>(m) = common;

@@ -60,6 +60,7 @@ struct Monitor {
   double theta_abs_max_run = 0.0;
   double residual_max = 0.0;
   Verdict contact, rolling;
+  double ru_prev = 0, ru_scale = 0, fstar_prev = 0;  // at the previous step end
 
   double row_time(long k) const { return k < last_row ? k * set.output.dt : set.solver.t_end; }
 
@@ -132,16 +133,31 @@ struct Monitor {
     if (v.t == v.t_prev) {  // the consistent initial state
       const mech::Sample s0 = v.at(v.t);
       whole_run(v, s0, s0.t);
+      ru_prev = s0.R(4);
+      ru_scale = std::abs(s0.R(4));
+      fstar_prev = s0.derived(0);
       if (keep_rows && next_row <= last_row && row_time(next_row) <= v.t) {
         add_row(s0);
         ++next_row;
       }
       return true;
     }
-    // Whole run: the step's midpoint and end.
-    const double mid = 0.5 * (v.t_prev + v.t);
-    whole_run(v, v.at(mid), v.t_prev);
-    whole_run(v, v.at(v.t), mid);
+    // Whole run: the step's end, and its midpoint too when an end is near a violation (R_u
+    // below a quarter of its largest value so far, or f* above 3/4 of f): a smooth signal
+    // cannot dip from there to the limit and back within one step (~1/25 of a period) unseen.
+    const mech::Sample end = v.at(v.t);
+    ru_scale = std::max(ru_scale, std::abs(end.R(4)));
+    const bool near = (contact.active && std::min(end.R(4), ru_prev) < 0.25 * ru_scale) ||
+                      (rolling.active && std::max(end.derived(0), fstar_prev) > 0.75 * set.p.f);
+    if (near) {
+      const double mid = 0.5 * (v.t_prev + v.t);
+      whole_run(v, v.at(mid), v.t_prev);
+      whole_run(v, end, mid);
+    } else {
+      whole_run(v, end, v.t_prev);
+    }
+    ru_prev = end.R(4);
+    fstar_prev = end.derived(0);
     if (v.t > w0) window(v);
     while (keep_rows && next_row <= last_row && row_time(next_row) <= v.t * (1 + 1e-14)) {
       add_row(v.at(std::min(std::max(row_time(next_row), v.t_prev), v.t)));
@@ -201,7 +217,7 @@ nlohmann::json null_if_nan(double v) {
 
 nlohmann::json run_case(const Case& c, const RunOptions& options) {
   const SieveSettings set = settings_from_case(c);
-  const auto model = make_sieve_model(set, ModelForm::geometric);
+  const auto model = make_sieve_model(set, options.model_form);
 
   mech::SimulationOptions so;
   so.kernel = set.solver.kernel;
@@ -247,7 +263,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   nlohmann::json j;
   j["case"] = c.name;
   j["model"] = "sieve";
-  j["model_form"] = to_string(ModelForm::geometric);
+  j["model_form"] = to_string(options.model_form);
   j["kernel"] = to_string(set.solver.kernel);
   j["form"] = to_string(set.solver.form);
   j["t_end"] = set.solver.t_end;

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sieve/case.hpp"
+#include "sieve/model.hpp"
 
 namespace pcsim::sieve {
 
@@ -15,6 +16,9 @@ struct RunOptions {
   /// Where to write timeseries.csv and summary.json; nullopt writes nothing (sweeps).
   /// Files are written to a temporary name and renamed, so a failed run leaves none.
   std::optional<std::filesystem::path> out_dir;
+  /// Internal (not a case key): which equivalent model description is integrated. The default,
+  /// the hand-derived closed form, is the fast one; tests run the geometric form against it.
+  ModelForm model_form = ModelForm::analytic;
 };
 
 /// Runs the case to solver.t_end and returns summary.json's content (architecture.md section

@@ -39,8 +39,8 @@ struct SieveConstraints {
 
 struct SolverSettings {
   Kernel kernel = Kernel::fortran;
-  Form form = Form::dae;
-  double rtol = 1e-8, atol = 1e-10, t_end = 10.0, h0 = 0.0;
+  Form form = Form::ode;
+  double rtol = 1e-6, atol = 1e-8, t_end = 10.0, h0 = 0.0;
 };
 
 struct OutputSettings {

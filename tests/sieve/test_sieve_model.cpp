@@ -8,6 +8,7 @@
 #include <random>
 
 #include "mech/simulation.hpp"
+#include "sieve/analytic_model.hpp"
 #include "sieve/model.hpp"
 
 using namespace pcsim;
@@ -233,4 +234,37 @@ BOOST_AUTO_TEST_CASE(fstar_is_friction_ratio_and_infinite_without_contact) {
   R(4) = 0.0;
   m.derived(0, z, z, R, out);
   BOOST_TEST(std::isinf(out(0)));
+}
+
+// The hand-derived model (the one `pcsim run` integrates) equals the AD-derived geometric form:
+// M, h and Q to 1e-12 relative (same reason as above), constraint rows exactly, and the
+// holonomic residuals to rounding.
+BOOST_AUTO_TEST_CASE(hand_derived_model_equals_the_ad_derived_forms) {
+  const SieveSettings set = general_settings();
+  const auto an = make_sieve_model(set, ModelForm::analytic);
+  const auto geo = make_sieve_model(set, ModelForm::geometric);
+  std::mt19937 rng(424242);
+  const std::vector<int> all = {0, 1, 2, 3};
+  for (int trial = 0; trial < 50; ++trial) {
+    const RandomState s = random_state(rng);
+    Eigen::MatrixXd M1(6, 6), M2(6, 6), g1(4, 6), g2(4, 6);
+    Eigen::VectorXd h1(6), h2(6), Q1(6), Q2(6), a1(4), a2(4), c1(4), c2(4);
+    an->kinetic_terms(s.t, s.q, s.qd, M1, h1);
+    geo->kinetic_terms(s.t, s.q, s.qd, M2, h2);
+    an->forces(s.t, s.q, s.qd, Q1);
+    geo->forces(s.t, s.q, s.qd, Q2);
+    an->constraint_rows(all, s.t, s.q, s.qd, g1, a1, c1);
+    geo->constraint_rows(all, s.t, s.q, s.qd, g2, a2, c2);
+    BOOST_TEST(rel_diff(M1, M2) < 1e-12);
+    BOOST_TEST(rel_diff(h1, h2) < 1e-12);
+    BOOST_TEST(rel_diff(Q1, Q2) < 1e-12);
+    BOOST_TEST((g1 - g2).cwiseAbs().maxCoeff() == 0.0);
+    BOOST_TEST(a1.cwiseAbs().maxCoeff() + a2.cwiseAbs().maxCoeff() == 0.0);
+    BOOST_TEST(c1.cwiseAbs().maxCoeff() + c2.cwiseAbs().maxCoeff() < 1e-15);
+    for (int i : {0, 1, 3})
+      BOOST_TEST(std::abs(an->position_residual(i, s.t, s.q) -
+                          geo->position_residual(i, s.t, s.q)) < 1e-15);
+  }
+  BOOST_TEST(an->constraints().size() == geo->constraints().size());
+  BOOST_TEST(an->derived_names() == geo->derived_names(), boost::test_tools::per_element());
 }

@@ -215,6 +215,22 @@ BOOST_AUTO_TEST_CASE(kernels_and_forms_agree) {
              1e-5);
 }
 
+// The run integrates the hand-derived model; integrating the AD-derived geometric form instead
+// gives the same summary (1e-6 relative: the same equations, rounded differently, so the
+// adaptive step sequences may differ by rounding amplified by the error control).
+BOOST_AUTO_TEST_CASE(geometric_form_run_matches_the_default_run) {
+  RunOptions geo;
+  geo.model_form = ModelForm::geometric;
+  const json a = run_case(short_case());
+  const json g = run_case(short_case(), geo);
+  BOOST_TEST(a["model_form"] == "analytic");
+  BOOST_TEST(g["model_form"] == "geometric");
+  for (const char* k : {"R_u_min", "R_u_max", "fstar_max", "theta_mean"})
+    BOOST_TEST(rel(a[k].get<double>(), g[k].get<double>()) < 1e-6, k);
+  for (const char* k : {"x", "y", "theta"})
+    BOOST_TEST(rel(a["amplitude"][k].get<double>(), g["amplitude"][k].get<double>()) < 1e-6, k);
+}
+
 // Output files appear completely or not at all: a run that fails numerically (ω so large
 // that ω² overflows: the forces are not finite) throws NumericalError and leaves the output
 // directory without summary.json, timeseries.csv or temporary files; a good run leaves exactly
