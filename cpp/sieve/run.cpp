@@ -280,7 +280,8 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   j["amplitude"] = {{"x", half_pp(sig_x)}, {"y", half_pp(sig_y)}, {"theta", half_pp(sig_theta)}};
   j["theta_mean"] = mon.theta_integral / (mon.w1 - mon.w0);
   j["theta_max_abs"] = std::max(mon.maxima[sig_theta].value, mon.minima[sig_theta].value);
-  j["theta_max_abs_run"] = mon.theta_abs_max_run;
+  j["theta_max_abs_run"] =  // step-end samples, and the refined window extremes
+      std::max({mon.theta_abs_max_run, mon.maxima[sig_theta].value, mon.minima[sig_theta].value});
   const double ru_min = -mon.minima[sig_Ru].value, ru_max = mon.maxima[sig_Ru].value;
   j["R_u_min"] = ru_min;
   j["R_u_max"] = ru_max;

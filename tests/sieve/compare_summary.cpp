@@ -2,11 +2,12 @@
 // kDigits significant digits, booleans, strings and nulls exactly. Solver statistics and wall
 // time are not compared (they belong to the integrator, not to the result).
 //
-// Why 5 digits: the cases run with rtol = 1e-8 (and atol well below the signals), and the
-// window extremes are refined on the dense output to ~1e-7 relative (tests/sieve proves
-// 1e-4 against a 10x tighter run), so 5 digits leave two orders of magnitude for
-// compiler, optimization-level (Release/Debug) and kernel (fortran/cpp) differences, while
-// any real change of the model or of the summary logic moves them.
+// Why 5 digits: the cases run with rtol = 1e-6; their summaries move by < 1e-5 relative when
+// the tolerance is tightened to 1e-11 (test_sieve_run proves < 1e-4; measured ~1e-7) and the
+// extremes are refined on the dense output; runs with the other kernel or the DAE form agree
+// with the stored references to these 5 digits too (checked when the references were made).
+// That leaves room for compiler and Release/Debug rounding, while any real change of the
+// model or of the summary logic moves them.
 //
 // Usage: sieve_compare_summary ACTUAL.json REFERENCE.json   (exit 0: agree, 1: differ)
 #include <cmath>
@@ -20,14 +21,16 @@ namespace {
 
 constexpr double kDigits = 5;
 
-// Absolute floors (below them a value is noise of the integration, not a result): lengths in
-// m and angles in rad that are exactly zero in the ideal model (theta with lock_theta) or
-// of order 1e-9 after the transient (the desk returns to its equilibrium).
+// Absolute floors: below them a difference is integration noise, not a result. q_end's x, y
+// and theta are snapshots of oscillations of amplitude ~2e-5 (m, rad) that pass near zero: an
+// integration with rtol 1e-6 places them to ~1e-10 absolute, so they are compared to 1e-9
+// (floor 1e-4 times 10^-5). Angles that are zero in the ideal model (theta with lock_theta:
+// rounding leaves ~1e-17 rad, and the DAE form ~4e-17) are compared to 1e-14 rad (floor 1e-9),
+// far below the ~1e-5 rad the free desk moves; everything else has a negligible floor.
 double floor_for(const std::string& path) {
-  if (path.rfind("/q_end/", 0) == 0) return 1e-9;
-  if (path == "/theta_mean") return 1e-10;
-  if (path.find("theta") != std::string::npos) return 1e-12;
-  if (path == "/fstar_max") return 1e-9;
+  if (path == "/q_end/x" || path == "/q_end/y" || path == "/q_end/theta") return 1e-4;
+  if (path == "/theta_mean") return 1e-8;
+  if (path.find("theta") != std::string::npos) return 1e-9;
   return 1e-12;
 }
 
