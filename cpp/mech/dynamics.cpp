@@ -43,7 +43,9 @@ Dynamics::Dynamics(const Model& model, std::vector<int> active, Kernel kernel,
       beta_(beta),
       n_(model.n()),
       s_(static_cast<int>(active_.size())),
-      constant_rows_(true) {
+      constant_rows_(true),
+      llt_(model.n()),  // constructed in place: assigning a fresh LLT would copy its
+      lu_(model.n()) {  // uninitialized info flag (UBSan)
   for (int i : active_) constant_rows_ = constant_rows_ && model.constraints()[i].constant_row;
   M.resize(n_, n_);
   g.resize(s_, n_);
@@ -59,8 +61,6 @@ Dynamics::Dynamics(const Model& model, std::vector<int> active, Kernel kernel,
   qdd.resize(n_);
   q_.resize(n_);
   qd_.resize(n_);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(n_);
-  lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n_);
   MinvgT_.resize(n_, s_);
   a0_.resize(n_);
   rhs_.resize(n_);
