@@ -105,7 +105,7 @@ struct Monitor {
   void window(const mech::StepView& v) {
     const double a = std::max(v.t_prev, w0), b = v.t;
     if (!(b > a)) return;
-    constexpr int K = 8;
+    constexpr int K = 8;  // 9 samples per step (~27 steps per period) bracket every extremum
     std::vector<double> s(K + 1);
     std::vector<mech::Sample> smp;
     smp.reserve(K + 1);
