@@ -19,37 +19,49 @@ struct RunningMax {
   }
 };
 
+/// The abscissa of the vertex of the parabola through (x0, f0), (x1, f1), (x2, f2); NaN if the
+/// three points are collinear.
+inline double parabola_vertex(double x0, double f0, double x1, double f1, double x2, double f2) {
+  const double d1 = (x1 - x0) * (f1 - f2), d2 = (x1 - x2) * (f1 - f0);
+  const double den = d1 - d2;
+  if (den == 0.0) return std::numeric_limits<double>::quiet_NaN();
+  return x1 - 0.5 * ((x1 - x0) * d1 - (x1 - x2) * d2) / den;
+}
+
 /// Given samples f(s_0..s_K) on increasing s (K >= 2) of a smooth function available as
-/// `eval`, returns the maximum over [s_0, s_K] to the accuracy of `eval`: the best sample is
-/// bracketed by its neighbours and the vertex of the parabola through the three best points
-/// is evaluated, `iterations` times (each halves the bracket at least, and converges
-/// superlinearly for a smooth peak). Endpoint maxima return the endpoint sample (the
-/// neighbouring interval sees the peak if it lies beyond).
+/// `eval`, offers the maximum over [s_0, s_K] to `best`, to the accuracy of `eval`: the best
+/// sample is bracketed by its neighbours and the vertex of the parabola through the three best
+/// points is evaluated, `iterations` times (superlinear for a smooth peak). When the best
+/// sample is an end point, the parabola through the three end samples tells whether the peak
+/// lies inside the first (last) sub-interval; if it lies beyond, the neighbouring interval
+/// contains it and the end sample is this interval's maximum.
 inline void refine_max(const std::vector<double>& s, const std::vector<double>& f,
                        const std::function<double(double)>& eval, RunningMax& best,
                        int iterations = 4) {
   const int K = static_cast<int>(s.size()) - 1;
   int i = static_cast<int>(std::max_element(f.begin(), f.end()) - f.begin());
-  if (!std::isfinite(f[i])) { best.offer(f[i], s[i]); return; }
-  double a, fa, m = s[i], fm = f[i], b, fb;
-  if (i == 0) {
-    // Maximum at the left end: refine inside [s0, s1] only if the slope turns there.
-    a = s[0]; fa = f[0]; m = 0.5 * (s[0] + s[1]); fm = eval(m); b = s[1]; fb = f[1];
-    if (fm <= fa) { best.offer(fa, a); return; }
-  } else if (i == K) {
-    a = s[K - 1]; fa = f[K - 1]; b = s[K]; fb = f[K]; m = 0.5 * (a + b); fm = eval(m);
-    if (fm <= fb) { best.offer(fb, b); return; }
+  best.offer(f[i], s[i]);
+  if (!std::isfinite(f[i])) return;
+  double a, fa, m, fm, b, fb;
+  if (i == 0 || i == K) {
+    const int e = i, n1 = (i == 0) ? 1 : K - 1, n2 = (i == 0) ? 2 : K - 2;
+    const double x = parabola_vertex(s[e], f[e], s[n1], f[n1], s[n2], f[n2]);
+    const double lo = std::min(s[e], s[n1]), hi = std::max(s[e], s[n1]);
+    if (!(x > lo && x < hi)) return;  // the peak is beyond this interval's end
+    const double fx = eval(x);
+    best.offer(fx, x);
+    if (!(fx > f[e])) return;
+    a = lo; b = hi; m = x; fm = fx;
+    fa = (lo == s[e]) ? f[e] : f[n1];
+    fb = (hi == s[e]) ? f[e] : f[n1];
   } else {
-    a = s[i - 1]; fa = f[i - 1]; b = s[i + 1]; fb = f[i + 1];
+    a = s[i - 1]; fa = f[i - 1]; m = s[i]; fm = f[i]; b = s[i + 1]; fb = f[i + 1];
   }
   best.offer(fa, a); best.offer(fb, b); best.offer(fm, m);
   // Now a < m < b with f(m) >= f(a), f(b): a bracketed maximum.
   for (int it = 0; it < iterations; ++it) {
-    const double d1 = (m - a) * (fm - fb), d2 = (m - b) * (fm - fa);
-    const double den = d1 - d2;
-    double x;
-    if (den == 0.0) break;
-    x = m - 0.5 * ((m - a) * d1 - (m - b) * d2) / den;
+    double x = parabola_vertex(a, fa, m, fm, b, fb);
+    if (std::isnan(x)) break;
     // Keep the trial strictly inside the bracket and away from m.
     const double eps = 1e-3 * (b - a);
     if (!(x > a + eps && x < b - eps) || std::abs(x - m) < 1e-9 * (b - a)) {
