@@ -6,7 +6,8 @@
 *  Part of pcsim. Written from the mathematics of the ABS class
 *  (Abaffy, Broyden, Spedicato; Bodon 1990 for the re-projection).
 *
-      SUBROUTINE PCHUAN( METH, M, N, A, LDA, B, X, TOL, H, LDH, RANK,
+      RECURSIVE SUBROUTINE PCHUAN( METH, M, N, A, LDA, B, X, TOL, H,
+     $                   LDH, RANK,
      $                   IDEP, WORK, LWORK, INFO )
 *
 *     .. Scalar Arguments ..
@@ -163,7 +164,8 @@
 *  independent row, in all about 3*M*N**2 flops.  Norms are computed
 *  as amax * sqrt(sum((v_k/amax)**2)) (see PCHNRM) so badly scaled rows
 *  neither overflow nor underflow.  WORK(1:N) holds u_i, WORK(N+1:2N)
-*  holds p_i.  No COMMON, no SAVE, no I/O: the routine is re-entrant.
+*  holds p_i.  No COMMON, no SAVE, no I/O, and RECURSIVE (locals on
+*  the stack): the routine is re-entrant and thread-safe.
 *
 *  =====================================================================
 *
@@ -345,7 +347,8 @@
 *> \brief PCHNUL extracts an orthonormal basis D of null(A) from the
 *> projector H = I - pinv(A) A returned by PCHUAN.
 *
-      SUBROUTINE PCHNUL( N, RANK, H, LDH, D, LDD, WORK, LWORK, INFO )
+      RECURSIVE SUBROUTINE PCHNUL( N, RANK, H, LDH, D, LDD, WORK, LWORK,
+     $                             INFO )
 *
 *     .. Scalar Arguments ..
       INTEGER            INFO, LDD, LDH, LWORK, N, RANK
@@ -557,7 +560,7 @@
 *> \brief PCHNRM returns the Euclidean norm of a strided vector without
 *> overflow or destructive underflow.
 *
-      DOUBLE PRECISION FUNCTION PCHNRM( N, V, INCV )
+      RECURSIVE DOUBLE PRECISION FUNCTION PCHNRM( N, V, INCV )
 *
 *     .. Scalar Arguments ..
       INTEGER            INCV, N
