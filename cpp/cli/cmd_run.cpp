@@ -52,7 +52,8 @@ void setup(CLI::App& app) {
   sub->add_option("--set", args->sets,
                   "override a case key by its dotted path, e.g. --set parameters.omega=300 "
                   "(repeatable)")
-      ->type_name("KEY=VALUE");
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);  // one KEY=VALUE per --set, so the case file can follow
   sub->add_option("--out", args->out_dir, "output directory (default: out/<case name>)")
       ->type_name("DIR");
   sub->add_option("--kernel", args->kernel, "numerical kernels: fortran or cpp (solver.kernel)")

@@ -84,6 +84,19 @@ BOOST_AUTO_TEST_CASE(kernel_and_form_options_reach_the_summary) {
   BOOST_TEST(has(ss.str(), "\"form\": \"dae\""));
 }
 
+// Each --set takes exactly one KEY=VALUE, so options may come before the case file.
+BOOST_AUTO_TEST_CASE(set_options_may_precede_the_case_file) {
+  TempDir d;
+  const Result r = sh("'" + exe() + "' run --set solver.t_end=0.02 --set output.dt=0.01 '" +
+                          kCase + "' --out res",
+                      d.path);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  std::ifstream in(d.path / "res" / "timeseries.csv");
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  BOOST_TEST(lines == 4);  // header + t = 0, 0.01, 0.02
+}
+
 // Each error class: non-zero exit, one line "pcsim: error: ..." naming the file, the key and
 // the expectation, and nothing written.
 BOOST_AUTO_TEST_CASE(case_errors_exit_nonzero_with_one_line_and_write_nothing) {
