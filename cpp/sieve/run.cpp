@@ -122,8 +122,8 @@ struct Monitor {
       for (int k = 0; k <= K; ++k) f[k] = -f[k];
       refine_max(s, f, [&](double x) { return -signal(v.at(x), sig); }, minima[sig]);
     }
-    // ∫ θ over [a, b] by 3-point Gauss-Legendre (exact for the degree-3 collocation
-    // polynomial of q; the dense q̇ makes θ a polynomial of degree <= 4 in s... within rounding).
+    // ∫ θ over [a, b] by 3-point Gauss-Legendre: exact for polynomials of degree <= 5, and the
+    // dense output of q on one step is a polynomial of degree 3 (the collocation polynomial).
     const double c = 0.5 * (a + b), hw = 0.5 * (b - a), r = std::sqrt(0.6);
     theta_integral += hw * (5.0 / 9.0 * v.at(c - hw * r).q(2) + 8.0 / 9.0 * v.at(c).q(2) +
                             5.0 / 9.0 * v.at(c + hw * r).q(2));
@@ -361,8 +361,8 @@ std::string human_report(const Case& c, const nlohmann::json& s) {
     os << (k++ % 6 == 0 ? "\n    " : ", ") << key.substr(dot + 1) << " = "
        << format_double(*c.table[key.substr(0, dot)][key.substr(dot + 1)].value<double>());
   }
-  os << "\n  constraints: ";
-  for (const auto& n : s["assumptions"]["constraints"]) os << n.get<std::string>() << ' ';
+  os << "\n  constraints:";
+  for (const auto& n : s["assumptions"]["constraints"]) os << ' ' << n.get<std::string>();
   std::snprintf(buf, sizeof buf, "\n  summary window: t = %.4f .. %.4f s (last %d excitation periods%s)\n",
                 s["window"][0].get<double>(), s["window"][1].get<double>(),
                 s["summary_periods"].get<int>(),
