@@ -121,15 +121,18 @@ void setup(CLI::App& app) {
       "from the case's own values");
   sub->add_option("case", args->case_file, "Case file (TOML)")->required();
   sub->add_option("--vary", args->vary, "KEY=LOW:HIGH, a bounded design key (repeatable)")
-      ->required();
-  sub->add_option("--set", args->set, "KEY=VALUE override applied to every run");
+      ->required()
+      ->allow_extra_args(false);  // one spec per --vary, so the case file can follow
+  sub->add_option("--set", args->set, "KEY=VALUE override applied to every run")
+      ->allow_extra_args(false);
   sub->add_option("--objective", args->objective,
                   "Summary quantity to maximize (a sweep.csv column; default contact_margin)");
   sub->add_flag("--minimize", args->minimize, "Minimize the objective instead");
   sub->add_option("--constraint", args->constraints,
                   "'NAME>=VALUE' or 'NAME<=VALUE' on a summary quantity (repeatable; added to "
                   "the defaults rolling_margin>=0.2, amplitude.theta<=0.001, "
-                  "amplitude.x>=2e-05, amplitude.x<=0.0001)");
+                  "amplitude.x>=2e-05, amplitude.x<=0.0001)")
+      ->allow_extra_args(false);
   sub->add_flag("--no-default-constraints", args->no_default_constraints,
                 "Use only the --constraint options");
   sub->add_option("--seed", args->seed, "Random seed (NLopt), default 1");

@@ -74,8 +74,10 @@ void setup(CLI::App& app) {
   inc->add_option("case", args->case_file, "Case file (TOML)")->required();
   inc->add_option("--vary", args->vary,
                   "Design points, as for sweep (default: initial.s0 from -(a-r) to a-r, 9 "
-                  "points); e.g. parameters.omega=200:360:9 or parameters.y0=-0.4:0.4:9");
-  inc->add_option("--set", args->set, "KEY=VALUE override applied to every run");
+                  "points); e.g. parameters.omega=200:360:9 or parameters.y0=-0.4:0.4:9")
+      ->allow_extra_args(false);  // one spec per --vary, so the case file can follow
+  inc->add_option("--set", args->set, "KEY=VALUE override applied to every run")
+      ->allow_extra_args(false);
   inc->add_option("--jobs,-j", args->jobs, "Threads (per MPI rank); default: all cores");
   inc->add_option("--out", args->out, "Output directory (default out/<case>-incline)");
   inc->add_flag("--no-plot", args->no_plot, "Write the table only");

@@ -61,8 +61,10 @@ void setup(CLI::App& app) {
   sub->add_option("--vary", args->vary,
                   "KEY=START:STOP:COUNT or KEY=v1,v2,... (any numeric dotted case key); "
                   "repeat for a grid, the last one varies fastest")
-      ->required();
-  sub->add_option("--set", args->set, "KEY=VALUE override applied to every point");
+      ->required()
+      ->allow_extra_args(false);  // one spec per --vary, so the case file can follow
+  sub->add_option("--set", args->set, "KEY=VALUE override applied to every point")
+      ->allow_extra_args(false);
   sub->add_option("--jobs,-j", args->jobs, "Threads (per MPI rank); default: all cores");
   sub->add_option("--out", args->out, "Output directory (default out/<case>-sweep)");
   sub->callback([args] { run(*args); });
