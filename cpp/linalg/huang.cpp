@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "linalg/huang_port.hpp"
-#include "pcsim_huang.h"
+#include "pcsim_kernels.h"
 
 namespace pcsim {
 

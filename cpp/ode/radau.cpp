@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "ode/radau_port.hpp"
-#include "pcsim_radau.h"
+#include "pcsim_kernels.h"
 
 namespace pcsim {
 

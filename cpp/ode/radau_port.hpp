@@ -3,7 +3,7 @@
 // and decisions, so both kernels take the same steps.
 #pragma once
 
-#include "pcsim_radau.h"
+#include "pcsim_kernels.h"
 
 namespace pcsim::radau_port {
 

@@ -1,0 +1,16 @@
+/* pcsim_kernels.h: the one C header through which the C++ layer calls the Fortran kernels.
+ *
+ * Every symbol is a bind(C) wrapper in bridge/*.f90; the wrappers only marshal arguments
+ * (value scalars, c_int/c_double, integer enums) and the kernels do the work. Arrays are
+ * column-major on both sides, so nothing is transposed. The declarations, with the array
+ * shapes in comments, are kept next to each bridge module:
+ *   pcsim_huang.h  -> pcsim_huang_solve, pcsim_huang_null_basis    (fortran/huang.f)
+ *   pcsim_radau.h  -> pcsim_radau_integrate, pcsim_radau_dense, pcsim_radau_coefficients (fortran/radau.f)
+ */
+#ifndef PCSIM_KERNELS_H
+#define PCSIM_KERNELS_H
+
+#include "pcsim_huang.h"
+#include "pcsim_radau.h"
+
+#endif /* PCSIM_KERNELS_H */
