@@ -1,6 +1,7 @@
 /* pcsim_kernels.h: the one C header through which the C++ layer calls the Fortran kernels.
  *
- * Every symbol is a bind(C) wrapper in bridge/*.f90; the wrappers only marshal arguments
+ * Every symbol is a bind(C) wrapper in a bridge module (bridge/huang_bridge.f90,
+ * bridge/radau_bridge.f90); the wrappers only marshal arguments
  * (value scalars, c_int/c_double, integer enums) and the kernels do the work. Arrays are
  * column-major on both sides, so nothing is transposed. The declarations, with the array
  * shapes in comments, are kept next to each bridge module:
