@@ -215,20 +215,27 @@ BOOST_AUTO_TEST_CASE(kernels_and_forms_agree) {
              1e-5);
 }
 
-// The run integrates the hand-derived model; integrating the AD-derived geometric form instead
-// gives the same summary (1e-6 relative: the same equations, rounded differently, so the
+// The run integrates the AD-derived closed form (3.4); integrating the AD-derived geometric form
+// or the hand-derived analytic fast path instead gives the same summary (1e-6 relative: the same equations, rounded differently, so the
 // adaptive step sequences may differ by rounding amplified by the error control).
-BOOST_AUTO_TEST_CASE(geometric_form_run_matches_the_default_run) {
+BOOST_AUTO_TEST_CASE(geometric_and_analytic_form_runs_match_the_default_closed_form_run) {
   RunOptions geo;
   geo.model_form = ModelForm::geometric;
+  RunOptions an;
+  an.model_form = ModelForm::analytic;
   const json a = run_case(short_case());
   const json g = run_case(short_case(), geo);
-  BOOST_TEST(a["model_form"] == "analytic");
+  const json h = run_case(short_case(), an);
+  BOOST_TEST(a["model_form"] == "closed_form");
   BOOST_TEST(g["model_form"] == "geometric");
-  for (const char* k : {"R_u_min", "R_u_max", "fstar_max", "theta_mean"})
-    BOOST_TEST(rel(a[k].get<double>(), g[k].get<double>()) < 1e-6, k);
-  for (const char* k : {"x", "y", "theta"})
-    BOOST_TEST(rel(a["amplitude"][k].get<double>(), g["amplitude"][k].get<double>()) < 1e-6, k);
+  BOOST_TEST(h["model_form"] == "analytic");
+  for (const json* o : {&g, &h}) {
+    for (const char* k : {"R_u_min", "R_u_max", "fstar_max", "theta_mean"})
+      BOOST_TEST(rel(a[k].get<double>(), (*o)[k].get<double>()) < 1e-6, k);
+    for (const char* k : {"x", "y", "theta"})
+      BOOST_TEST(rel(a["amplitude"][k].get<double>(), (*o)["amplitude"][k].get<double>()) < 1e-6,
+                 k);
+  }
 }
 
 // Output files appear completely or not at all: a run that fails numerically (ω so large
