@@ -79,27 +79,28 @@ ModelIssue Dynamics::evaluate(double t, const Eigen::VectorXd& q, const Eigen::V
   model_->kinetic_terms(t, q, qd, M, h);
   model_->forces(t, q, qd, Q);
   if (s_ > 0) model_->constraint_rows(active_, t, q, qd, g, g0, gamma);
-  const std::string at = " at t = " + fmt(t);
+  // Messages are built only on failure: this runs once per right-hand side evaluation.
+  const auto at = [t] { return " at t = " + fmt(t); };
   if (!M.allFinite()) {
     Eigen::VectorXd bad = M.rowwise().sum();
-    return fail(ModelIssue::non_finite, "the mass matrix M = d2T/dqd2 is not finite" + at +
+    return fail(ModelIssue::non_finite, "the mass matrix M = d2T/dqd2 is not finite" + at() +
                                             " (rows of " + coordinate_list(*model_, bad, INFINITY) +
                                             ")");
   }
   if (!h.allFinite()) {
     return fail(ModelIssue::non_finite, "the velocity terms h of the kinetic energy are not finite" +
-                                            at + " (coordinate " +
+                                            at() + " (coordinate " +
                                             coordinate_list(*model_, h, INFINITY) + ")");
   }
   if (!Q.allFinite()) {
     return fail(ModelIssue::non_finite,
-                "the generalized forces Q (-dV/dq - dF/dqd + applied) are not finite" + at +
+                "the generalized forces Q (-dV/dq - dF/dqd + applied) are not finite" + at() +
                     " (coordinate " + coordinate_list(*model_, Q, INFINITY) + ")");
   }
   for (int r = 0; r < s_; ++r) {
     if (!g.row(r).allFinite() || !std::isfinite(g0[r]) || !std::isfinite(gamma[r])) {
       return fail(ModelIssue::non_finite, "constraint '" + model_->constraints()[active_[r]].name +
-                                              "' gives a non-finite row g, g0 or gamma" + at);
+                                              "' gives a non-finite row g, g0 or gamma" + at());
     }
   }
   if (stabilization_ == Stabilization::baumgarte && s_ > 0) {
@@ -120,7 +121,7 @@ ModelIssue Dynamics::factorize_mass() {
   bool ok = llt_.info() == Eigen::Success;
   if (ok) {
     // LLT accepts tiny positive pivots; demand a condition-like margin (the pivot ratio).
-    const Eigen::VectorXd d = llt_.matrixLLT().diagonal().cwiseAbs2();
+    const auto d = llt_.matrixLLT().diagonal().cwiseAbs2();  // an expression: no allocation
     ok = d.minCoeff() > 1e-13 * d.maxCoeff();
   }
   if (ok) return ModelIssue::none;

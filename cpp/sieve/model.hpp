@@ -28,6 +28,9 @@ const char* to_string(ModelForm form);
 
 /// Coordinates, constraints and derived quantities shared by both forms.
 struct SieveCommon {
+  /// Six coordinates (x, y, theta, s, u, phi), known at compile time: the engine's AD then uses
+  /// fixed-size derivative vectors, which Eigen unrolls (results bit-identical, ~2x faster).
+  static constexpr int kCoordinates = 6;
   SieveParameters p;
   double rolling_constant = 0.0;  ///< s(0) - r phi(0): the rolling constraint's constant
 

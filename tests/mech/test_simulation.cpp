@@ -235,25 +235,27 @@ BOOST_AUTO_TEST_CASE(observer_can_stop_the_run) {
 BOOST_AUTO_TEST_CASE(concurrent_runs_share_no_state) {
   // The model is immutable and every run owns its workspace: two runs on two threads give
   // bit-identical results to a run alone (the integrator is deterministic).
-  // Kernel::cpp: the Fortran Huang routines are not yet RECURSIVE, so gfortran's -fcheck=all
-  // (Debug) stops two concurrent calls as "recursive call to nonrecursive procedure
-  // 'pcsim_huang_solve'" (reported; the Radau kernel was fixed the same way in d31f597).
+  // Both kernels: the Fortran Huang and Radau routines are RECURSIVE (and compiled with
+  // -frecursive), so under Debug's -fcheck=all concurrent calls are legal too.
   const auto model = create_model("slider_crank");
   Eigen::VectorXd q0, qd0;
   slider_crank_state(0.3, 2.0, q0, qd0);
-  SimulationOptions o;
-  o.kernel = Kernel::cpp;
-  o.t_end = 0.5;
-  o.rtol = o.atol = 1e-8;
-  o.active_constraints = kJoints;
-  const SimulationResult alone = simulate(*model, q0, qd0, o);
-  BOOST_REQUIRE(alone.status == RadauStatus::success);
-  SimulationResult r1, r2;
-  std::thread t1([&] { r1 = simulate(*model, q0, qd0, o); });
-  std::thread t2([&] { r2 = simulate(*model, q0, qd0, o); });
-  t1.join();
-  t2.join();
-  BOOST_TEST(r1.q_end == alone.q_end);
-  BOOST_TEST(r2.q_end == alone.q_end);
-  BOOST_TEST(r1.stats.f_evals == alone.stats.f_evals);
+  for (Kernel kernel : {Kernel::fortran, Kernel::cpp}) {
+    SimulationOptions o;
+    o.kernel = kernel;
+    o.t_end = 0.5;
+    o.rtol = o.atol = 1e-8;
+    o.active_constraints = kJoints;
+    const SimulationResult alone = simulate(*model, q0, qd0, o);
+    BOOST_REQUIRE(alone.status == RadauStatus::success);
+    SimulationResult r1, r2;
+    std::thread t1([&] { r1 = simulate(*model, q0, qd0, o); });
+    std::thread t2([&] { r2 = simulate(*model, q0, qd0, o); });
+    t1.join();
+    t2.join();
+    BOOST_TEST(r1.q_end == alone.q_end);
+    BOOST_TEST(r2.q_end == alone.q_end);
+    BOOST_TEST(r1.stats.f_evals == alone.stats.f_evals);
+    BOOST_TEST(r2.stats.f_evals == alone.stats.f_evals);
+  }
 }
