@@ -1,8 +1,8 @@
 # `mpirun -np 2 pcsim sweep` writes the same sweep.csv as `pcsim sweep --jobs 1` (the real
-# integrator, shortened to t_end = 0.1 s to stay fast). Run by CTest with -DPCSIM=... -DMPIEXEC=...
+# integrator, shortened to t_end = 0.02 s to stay fast). Run by CTest with -DPCSIM=... -DMPIEXEC=...
 # -DCASE=... -DOUT=...
 file(REMOVE_RECURSE "${OUT}")
-set(_args sweep "${CASE}" --set solver.t_end=0.1 --vary parameters.omega=260,300
+set(_args sweep "${CASE}" --set solver.t_end=0.02 --vary parameters.omega=260,300
           --vary initial.s0=0.2,0.4)
 execute_process(COMMAND "${PCSIM}" ${_args} --jobs 1 --out "${OUT}/single" RESULT_VARIABLE rc1)
 execute_process(COMMAND "${MPIEXEC}" -np 2 --oversubscribe "${PCSIM}" ${_args} --jobs 1

@@ -53,7 +53,7 @@ BOOST_AUTO_TEST_CASE(bad_vary_stops_the_sweep_before_any_run) {
 BOOST_AUTO_TEST_CASE(rerunning_a_finished_sweep_runs_nothing) {
   const auto dir = study_test::scratch("cli_resume");
   // The case file may follow the repeatable options (one value per --vary / --set).
-  const std::string args = "sweep --set solver.t_end=0.1 --vary parameters.omega=270,290 "
+  const std::string args = "sweep --set solver.t_end=0.02 --vary parameters.omega=270,290 "
                            "--jobs 2 --out '" + (dir / "out").string() + "' " + kCase;
   const auto first = run_pcsim(args, dir);
   BOOST_REQUIRE_MESSAGE(first.status == 0, first.output);
