@@ -11,6 +11,7 @@
 #include <unsupported/Eigen/AutoDiff>
 
 #include "common/error.hpp"
+#include "mech/detail/kinetic_jet.hpp"
 
 namespace pcsim::mech::detail {
 
@@ -124,8 +125,24 @@ class AutoDiffModel final : public Model {
   // (n+1)(n+1) numbers per operation instead of (2n+2)(n+1) for the plain (q, q̇, t) x q̇ nest.
   // Every seed carries full-size (zero) derivative vectors: Eigen's AutoDiffScalar does not make
   // empty and non-empty derivative expressions coherent in nested arithmetic.
+  //
+  // Models with kCoordinates use instead one sweep of KineticJet<N> (kinetic_jet.hpp), which
+  // carries the same derivatives without the nest's redundancy (M stored once, as a symmetric
+  // triangle; p_j not duplicated) plus ∂T/∂q, and skips the q̇-blocks for the many operations
+  // on functions of (q, t) alone: about 5x cheaper for the sieve (same numbers up to rounding).
   void kinetic_terms(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                      Eigen::MatrixXd& M, Eigen::VectorXd& h) const override {
+    if constexpr (Ad::kFixed) {
+      kinetic_terms_jet(t, q, qd, M, h);
+    } else {
+      kinetic_terms_nested(t, q, qd, M, h);
+    }
+  }
+
+  /// The nested-AutoDiffScalar derivation above; public so the tests can compare it with the
+  /// jet sweep for fixed-size models.
+  void kinetic_terms_nested(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                            Eigen::MatrixXd& M, Eigen::VectorXd& h) const {
     const int n = this->n();
     const int m = n + 1;
     VecX<AD2> Q2(n), QD2(n);
@@ -151,6 +168,37 @@ class AutoDiffModel final : public Model {
       const auto& d2 = pj.derivatives();
       for (int k = 0; k < n; ++k) M(j, k) = der_at(d2, k);
       h[j] = der_at(d2, n) - der_at(T1.derivatives(), j);
+    }
+  }
+
+  /// M, h by one KineticJet sweep (fixed N only): seeds q_i (value q_i, ε-rate q̇_i, ∂/∂q e_i),
+  /// q̇_i (∂/∂q̇ e_i), t (ε-rate 1); then M = H, h = ge − gq.
+  void kinetic_terms_jet(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         Eigen::MatrixXd& M, Eigen::VectorXd& h) const {
+    if constexpr (Ad::kFixed) {
+      constexpr int N = static_size<Impl>::value;
+      using J = KineticJet<N>;
+      VecX<J> qj(N), qdj(N);
+      for (int i = 0; i < N; ++i) {
+        J a(q[i]);
+        a.e = qd[i];
+        a.gq[i] = 1.0;
+        qj[i] = a;
+        J b(qd[i]);
+        b.g[i] = 1.0;
+        b.dq = true;
+        qdj[i] = b;
+      }
+      J tj(t);
+      tj.e = 1.0;
+      const J T = impl_.kinetic_energy(qj, qdj, tj);
+      int p = 0;
+      for (int j = 0; j < N; ++j) {
+        for (int k = j; k < N; ++k, ++p) M(j, k) = M(k, j) = T.H[p];
+        h[j] = T.ge[j] - T.gq[j];
+      }
+    } else {
+      kinetic_terms_nested(t, q, qd, M, h);
     }
   }
 
