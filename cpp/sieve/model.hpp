@@ -19,10 +19,11 @@ using mech::VecX;
 /// Which of the equivalent descriptions builds the Model:
 /// - geometric: body positions, springs, dampers -> T, V, F; the engine derives M, h, Q by AD.
 ///   The physical description, independent of the paper's printed formulas.
-/// - closed_form: the paper's (3.4) and (3.4a)-(3.4f) (errata applied); M, h by AD.
+/// - closed_form: the paper's (3.4) and (3.4a)-(3.4f) (errata applied); M, h by AD. What
+///   `pcsim run` integrates (RunOptions::model_form's default).
 /// - analytic: the closed form with M, h and Q differentiated by hand (analytic_model.hpp),
-///   no AD: ~10x cheaper per evaluation. `pcsim run` integrates this one; the tests prove it
-///   equal to both AD forms (M, h, Q to 1e-12) and the run equal to a geometric-form run.
+///   no AD: ~20x cheaper M, h; an opt-in fast path (C++ API, benchmarks). The tests prove it
+///   equal to both AD forms (M, h, Q to 1e-12) and its run equal to the default run.
 enum class ModelForm { geometric, closed_form, analytic };
 const char* to_string(ModelForm form);
 
