@@ -737,15 +737,6 @@
       END IF
       GO TO 400
 *
-*     Rejection after slow predicted convergence (h already reduced).
-  395 CONTINUE
-      REJECT = .TRUE.
-      LAST = .FALSE.
-      NREJCT = NREJCT + 1
-      NEEDLU = .TRUE.
-      NEEDJ = .NOT.CALJAC
-      GO TO 100
-*
 *     Newton failure: halve h, fresh Jacobian if it was stale.
   400 CONTINUE
       IF( FIXED ) THEN
@@ -756,6 +747,10 @@
       ELSE
          H = H*0.5D0
       END IF
+*
+*     Rejection after slow predicted convergence (h already reduced),
+*     and the common tail of a Newton failure: retry the step.
+  395 CONTINUE
       REJECT = .TRUE.
       LAST = .FALSE.
       NREJCT = NREJCT + 1

@@ -47,6 +47,18 @@ SieveSettings general_settings() {
   return set;
 }
 
+// A random state moved onto the contact (u = u0) and rolling (s - r phi = s0 - r phi0)
+// constraints, positions and velocities, so reactions can be evaluated there.
+RandomState random_state_on_constraints(std::mt19937& rng, const SieveSettings& set) {
+  RandomState s = random_state(rng);
+  s.q(4) = set.p.u0;
+  s.q(3) = set.q0[3] + set.p.r * (s.q(5) - set.q0[5]);
+  s.qd(4) = 0;
+  s.qd(3) = set.p.r * s.qd(5);
+  return s;
+}
+
+
 double rel_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(a.cwiseAbs().maxCoeff(), 1e-300);
 }
@@ -148,11 +160,7 @@ BOOST_AUTO_TEST_CASE(reactions_obey_the_ideality_criterion) {
   const auto geo = make_sieve_model(set, ModelForm::geometric);
   std::mt19937 rng(11);
   for (int trial = 0; trial < 10; ++trial) {
-    RandomState s = random_state(rng);
-    s.q(4) = set.p.u0;
-    s.q(3) = set.q0[3] + set.p.r * (s.q(5) - set.q0[5]);
-    s.qd(4) = 0;
-    s.qd(3) = set.p.r * s.qd(5);
+    const RandomState s = random_state_on_constraints(rng, set);
     const auto r = mech::reactions(*geo, {"contact", "rolling"}, s.t, s.q, s.qd);
     BOOST_TEST_REQUIRE(static_cast<int>(r.issue) == static_cast<int>(mech::ModelIssue::none));
     const double scale = r.R.cwiseAbs().maxCoeff();
@@ -197,11 +205,7 @@ BOOST_AUTO_TEST_CASE(rolling_reaction_balances_the_roller_spin) {
   const auto geo = make_sieve_model(set, ModelForm::geometric);
   std::mt19937 rng(5);
   for (int trial = 0; trial < 10; ++trial) {
-    RandomState s = random_state(rng);
-    s.q(4) = set.p.u0;
-    s.q(3) = set.q0[3] + set.p.r * (s.q(5) - set.q0[5]);
-    s.qd(4) = 0;
-    s.qd(3) = set.p.r * s.qd(5);
+    const RandomState s = random_state_on_constraints(rng, set);
     const auto r = mech::reactions(*geo, {"contact", "rolling"}, s.t, s.q, s.qd);
     BOOST_TEST_REQUIRE(static_cast<int>(r.issue) == static_cast<int>(mech::ModelIssue::none));
     // Roller spin: J2 (θ̈ + φ̈) = R_φ = −r R_s (no other moment about the roller centre).
