@@ -10,6 +10,7 @@ PACKAGES=(
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   gnuplot-nox
   libnlopt-cxx-dev
+  libginac-dev
   libopenmpi-dev openmpi-bin
 )
 

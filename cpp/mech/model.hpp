@@ -58,7 +58,8 @@ struct ConstraintInfo {
 // branches on derivative values, and no static/global mutable state. Write constants as plain
 // doubles (0.5 * m * v) rather than S(0.5): without kCoordinates, an S(c) with an empty
 // derivative vector that meets a compound AD expression trips an Eigen size assertion.
-// A model may have at most kMaxCoordinates coordinates (the AD types are small-buffer types).
+// A model struct may have at most kMaxCoordinates coordinates (the AD types are small-buffer
+// types); models from model files (expression tapes) have no such limit.
 
 inline constexpr int kMaxCoordinates = 16;
 
@@ -95,9 +96,11 @@ class Model {
   /// Φ_i(q, t) of constraint i (holonomic only; NaN for a velocity-form constraint).
   virtual double position_residual(int i, double t, const Eigen::VectorXd& q) const = 0;
 
-  /// The model's derived quantities (size derived_names().size()) at a state with reactions R.
+  /// The model's derived quantities (size derived_names().size()) at a state with
+  /// accelerations qdd and reactions R.
   virtual void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-                       const Eigen::VectorXd& R, Eigen::VectorXd& out) const = 0;
+                       const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
+                       Eigen::VectorXd& out) const = 0;
 
  protected:
   std::string name_;

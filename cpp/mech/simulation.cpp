@@ -90,7 +90,7 @@ class Run {
       out.qdd = Eigen::VectorXd::Constant(n_, std::nan(""));
       out.R = out.qdd;
     }
-    model_.derived(t, q, qd, out.R, out.derived);
+    model_.derived(t, q, qd, out.qdd, out.R, out.derived);
     out.residual_pos = sample_dyn_.position_residual(t, q);
     out.residual_vel = sample_dyn_.velocity_residual(qd);
     return out;

@@ -125,7 +125,8 @@ class SieveAnalyticModel final : public mech::Model {
   }
 
   void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-               const Eigen::VectorXd& R, Eigen::VectorXd& out) const override {
+               const Eigen::VectorXd& /*qdd*/, const Eigen::VectorXd& R,
+               Eigen::VectorXd& out) const override {
     c_.derived(t, q, qd, R, out);
   }
 

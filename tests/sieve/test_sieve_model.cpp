@@ -193,7 +193,7 @@ BOOST_AUTO_TEST_CASE(roller_at_rest_on_level_deck_carries_its_weight) {
   BOOST_TEST(std::abs(r.R(3)) <= 1e-10 * W);
   BOOST_TEST(r.qdd.cwiseAbs().maxCoeff() <= 1e-10);  // equilibrium: nothing accelerates
   Eigen::VectorXd out;
-  geo->derived(0.0, q, qd, r.R, out);
+  geo->derived(0.0, q, qd, r.qdd, r.R, out);
   BOOST_TEST(out(0) <= 1e-10);
 }
 

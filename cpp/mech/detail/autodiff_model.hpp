@@ -250,7 +250,8 @@ class AutoDiffModel final : public Model {
   }
 
   void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-               const Eigen::VectorXd& R, Eigen::VectorXd& out) const override {
+               const Eigen::VectorXd& /*qdd*/, const Eigen::VectorXd& R,
+               Eigen::VectorXd& out) const override {
     if constexpr (has_derived<Impl>::value) {
       impl_.derived(t, q, qd, R, out);
     } else {
