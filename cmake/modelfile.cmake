@@ -1,0 +1,22 @@
+# Component modelfile: mechanical systems described in TOML model files (no compilation):
+# expressions parsed and differentiated symbolically with GiNaC, evaluated from a flat tape.
+# It needs the mechanics engine; until pcsim_mech exists it is skipped.
+if(NOT TARGET pcsim_mech)
+  message(STATUS "pcsim: component modelfile needs pcsim_mech; skipped")
+  return()
+endif()
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(GINAC REQUIRED IMPORTED_TARGET ginac)
+pcsim_component(NAME modelfile
+  CXX   cpp/modelfile/*.cpp
+  LINKS pcsim_mech PkgConfig::GINAC tomlplusplus::tomlplusplus)
+pcsim_boost_tests(DIR tests/modelfile LINKS pcsim_modelfile)
+pcsim_benchmarks(PREFIX bench_modelfile LINKS pcsim_modelfile)
+
+# The sieve comparisons (test and benchmark) also need the C++ sieve, a later component;
+# target names resolve at generate time.
+foreach(t test_modelfile_sieve bench_modelfile)
+  if(TARGET ${t})
+    target_link_libraries(${t} PRIVATE pcsim_sieve)
+  endif()
+endforeach()

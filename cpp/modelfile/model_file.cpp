@@ -1,0 +1,604 @@
+// Reading model files (TOML) and the ModelDescription (see model_file.hpp).
+#include "modelfile/model_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "modelfile/expression.hpp"
+#include "modelfile/expression_model.hpp"
+#include "modelfile/symbolic.hpp"
+
+namespace pcsim::modelfile {
+
+using detail::ExprText;
+using detail::fail;
+using detail::ModelSource;
+using detail::SourceConstraint;
+
+// ---- ParameterSpec ---------------------------------------------------------------------------
+
+bool ParameterSpec::admits(double v) const {
+  if (!std::isfinite(v)) return false;
+  if (min_exclusive ? !(v > min) : !(v >= min)) return false;
+  if (max_exclusive ? !(v < max) : !(v <= max)) return false;
+  return true;
+}
+
+namespace {
+
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  // The shortest of %.15g..%.17g that reads back equal (so 0.1 prints as 0.1).
+  for (int p = 15; p <= 17; ++p) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.*g", p, v);
+    if (std::strtod(b, nullptr) == v) return b;
+  }
+  return buf;
+}
+
+}  // namespace
+
+std::string ParameterSpec::range_text() const {
+  const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
+  if (!has_min && !has_max) return "a finite number";
+  if (has_min && !has_max) {
+    return std::string("a number ") + (min_exclusive ? "> " : ">= ") + number_text(min);
+  }
+  if (!has_min) return std::string("a number ") + (max_exclusive ? "< " : "<= ") + number_text(max);
+  return std::string("a number in ") + (min_exclusive ? "(" : "[") + number_text(min) + ", " +
+         number_text(max) + (max_exclusive ? ")" : "]");
+}
+
+// ---- reading the TOML table ------------------------------------------------------------------
+
+namespace {
+
+// The entries of a table in file order (toml++ keeps tables sorted by key; the source
+// positions give the order of the file; tables built in memory keep key order).
+std::vector<std::pair<std::string, const toml::node*>> in_file_order(const toml::table& t) {
+  std::vector<std::pair<std::string, const toml::node*>> out;
+  std::vector<std::pair<std::pair<toml::source_index, toml::source_index>, std::size_t>> pos;
+  for (auto&& [k, v] : t) {
+    pos.push_back({{k.source().begin.line, k.source().begin.column}, out.size()});
+    out.push_back({std::string(k.str()), &v});
+  }
+  std::stable_sort(pos.begin(), pos.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::pair<std::string, const toml::node*>> sorted;
+  for (const auto& p : pos) sorted.push_back(out[p.second]);
+  return sorted;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+class Reader {
+ public:
+  Reader(std::string where, std::string prefix) : where_(std::move(where)), prefix_(std::move(prefix)) {}
+
+  std::string key(const std::string& k) const { return prefix_.empty() ? k : prefix_ + "." + k; }
+  const std::string& where() const { return where_; }
+
+  void only(const toml::table& t, const std::string& table_key,
+            const std::vector<std::string>& allowed) const {
+    for (auto&& [k, v] : t) {
+      const std::string name(k.str());
+      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
+        fail(where_, table_key + "." + name, "unknown key (expected one of: " + join(allowed) + ")");
+      }
+    }
+  }
+
+  const toml::table& table(const toml::node& node, const std::string& k) const {
+    if (!node.is_table()) fail(where_, k, "a table");
+    return *node.as_table();
+  }
+
+  double number(const toml::node& node, const std::string& k) const {
+    double v;
+    if (auto i = node.as_integer()) {
+      v = static_cast<double>(i->get());
+    } else if (auto f = node.as_floating_point()) {
+      v = f->get();
+    } else {
+      fail(where_, k, "a number");
+    }
+    if (!std::isfinite(v)) fail(where_, k, "a finite number, got " + number_text(v));
+    return v;
+  }
+
+  bool boolean(const toml::node& node, const std::string& k) const {
+    if (auto b = node.as_boolean()) return b->get();
+    fail(where_, k, "a boolean (true or false)");
+  }
+
+  std::string string(const toml::node& node, const std::string& k, const std::string& what) const {
+    if (auto s = node.as_string()) return s->get();
+    fail(where_, k, what);
+  }
+
+  /// An expression: a string, or a number (a constant expression).
+  ExprText expression(const toml::node& node, const std::string& k) const {
+    ExprText e{where_, k, ""};
+    if (auto s = node.as_string()) {
+      e.text = s->get();
+      if (e.text.find_first_not_of(" \t\r\n") == std::string::npos) {
+        fail(where_, k, "an expression, got an empty string");
+      }
+    } else if (node.is_number()) {
+      e.text = number_text(number(node, k));
+    } else {
+      fail(where_, k, "an expression (a string such as \"0.5*m*x_d^2\") or a number");
+    }
+    return e;
+  }
+
+  /// A declared name: an identifier that is not reserved.
+  void name(const std::string& n, const std::string& k) const {
+    if (!detail::is_identifier(n)) {
+      fail(where_, k, "a name of letters, digits and '_' not starting with a digit, got '" + n + "'");
+    }
+    if (detail::is_reserved_name(n)) {
+      fail(where_, k, "'" + n + "' is reserved (a function name, t, pi, I, Pi, Euler, Catalan, "
+                      "residual_pos or residual_vel); choose another name");
+    }
+  }
+
+ private:
+  std::string where_, prefix_;
+};
+
+ParameterSpec read_parameter(const Reader& r, const std::string& name, const toml::node& node,
+                             const std::string& k) {
+  ParameterSpec p;
+  p.name = name;
+  if (!node.is_table()) {
+    if (!node.is_number()) {
+      fail(r.where(), k, "a number (the default value, SI) or a table { value = ..., unit = ... }");
+    }
+    p.value = r.number(node, k);
+    return p;
+  }
+  const toml::table& t = *node.as_table();
+  r.only(t, k, {"value", "unit", "meaning", "min", "max", "min_exclusive", "max_exclusive",
+                "positive"});
+  const toml::node* value = t.get("value");
+  if (!value) fail(r.where(), k + ".value", "the parameter's value (a number); it has none");
+  p.value = r.number(*value, k + ".value");
+  if (auto n = t.get("unit")) p.unit = r.string(*n, k + ".unit", "a string (the unit)");
+  if (auto n = t.get("meaning")) p.meaning = r.string(*n, k + ".meaning", "a string");
+  if (auto n = t.get("min")) p.min = r.number(*n, k + ".min");
+  if (auto n = t.get("max")) p.max = r.number(*n, k + ".max");
+  if (auto n = t.get("min_exclusive")) p.min_exclusive = r.boolean(*n, k + ".min_exclusive");
+  if (auto n = t.get("max_exclusive")) p.max_exclusive = r.boolean(*n, k + ".max_exclusive");
+  if (auto n = t.get("positive"); n && r.boolean(*n, k + ".positive")) {
+    if (t.get("min")) fail(r.where(), k + ".positive", "either positive or min, not both");
+    p.min = 0.0;
+    p.min_exclusive = true;
+  }
+  if (p.min > p.max) fail(r.where(), k + ".min", "min <= max");
+  if (!p.admits(p.value)) {
+    fail(r.where(), k + ".value", p.range_text() + " (its own range), got " + number_text(p.value));
+  }
+  return p;
+}
+
+int coordinate_index(const ModelSource& src, const std::string& name) {
+  for (std::size_t i = 0; i < src.coordinates.size(); ++i) {
+    if (src.coordinates[i] == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+// Every declared name is unique, also against the generated names x_d, x_dd and R_x.
+void check_unique_names(const ModelSource& src) {
+  std::map<std::string, std::string> seen;  // name -> what it is
+  auto declare = [&](const std::string& name, const std::string& what, const std::string& where,
+                     const std::string& key) {
+    auto it = seen.find(name);
+    if (it != seen.end()) {
+      fail(where, key, "the name '" + name + "' is already used (" + it->second + ")");
+    }
+    seen[name] = what;
+  };
+  const std::string ckey = src.prefix.empty() ? "coordinates" : src.prefix + ".coordinates";
+  for (const auto& c : src.coordinates) {
+    declare(c, "coordinate", src.where, ckey);
+  }
+  for (const auto& c : src.coordinates) {
+    declare(c + "_d", "the velocity of coordinate '" + c + "'", src.where, ckey);
+    declare(c + "_dd", "the acceleration of coordinate '" + c + "'", src.where, ckey);
+    declare("R_" + c, "the reaction of coordinate '" + c + "'", src.where, ckey);
+  }
+  const std::string pre = src.prefix.empty() ? "" : src.prefix + ".";
+  for (const auto& p : src.parameters) declare(p.name, "a parameter", src.where, pre + "parameters." + p.name);
+  for (const auto& [name, e] : src.definitions) declare(name, "a definition", e.where, e.key);
+  for (const auto& c : src.constraints) {
+    declare(c.spec.name, "a constraint", c.spec.added ? c.holonomic.where : src.where,
+            c.spec.added ? c.holonomic.key : c.key + ".name");
+  }
+  for (const auto& [name, e] : src.outputs) declare(name, "an output", e.where, e.key);
+}
+
+ModelSource read_source(const toml::table& model, const std::filesystem::path& source,
+                        const std::string& prefix) {
+  ModelSource src;
+  src.file = source;
+  src.where = source.empty() ? std::string("<model>") : source.string();
+  src.prefix = prefix;
+  const Reader r(src.where, prefix);
+  r.only(model, prefix, {"name", "coordinates", "parameters", "define", "energy", "forces",
+                         "constraint", "outputs", "period", "slow"});
+
+  if (auto n = model.get("name")) {
+    src.name = r.string(*n, r.key("name"), "a string (the model name)");
+    if (src.name.empty()) fail(src.where, r.key("name"), "a non-empty string");
+  } else {
+    src.name = source.empty() ? std::string("model") : source.stem().string();
+  }
+
+  // Coordinates.
+  const toml::node* coords = model.get("coordinates");
+  if (!coords) fail(src.where, r.key("coordinates"), "the list of coordinates, e.g. [\"x\", \"y\"]");
+  const toml::array* ca = coords->as_array();
+  if (!ca || ca->empty()) {
+    fail(src.where, r.key("coordinates"), "a non-empty list of names, e.g. [\"x\", \"y\"]");
+  }
+  for (const auto& c : *ca) {
+    const std::string name = r.string(c, r.key("coordinates"), "a list of names (strings)");
+    r.name(name, r.key("coordinates"));
+    src.coordinates.push_back(name);
+  }
+
+  // Parameters.
+  if (auto n = model.get("parameters")) {
+    const toml::table& t = r.table(*n, r.key("parameters"));
+    for (const auto& [name, node] : in_file_order(t)) {
+      const std::string k = r.key("parameters." + name);
+      r.name(name, k);
+      src.parameters.push_back(read_parameter(r, name, *node, k));
+    }
+  }
+
+  // Definitions.
+  if (auto n = model.get("define")) {
+    const toml::table& t = r.table(*n, r.key("define"));
+    for (const auto& [name, node] : in_file_order(t)) {
+      const std::string k = r.key("define." + name);
+      r.name(name, k);
+      src.definitions.push_back({name, r.expression(*node, k)});
+    }
+  }
+
+  // Energies.
+  const toml::node* energy = model.get("energy");
+  if (!energy) {
+    fail(src.where, r.key("energy.kinetic"), "the kinetic energy T(q, q_d, t), an expression");
+  }
+  const toml::table& et = r.table(*energy, r.key("energy"));
+  r.only(et, r.key("energy"), {"kinetic", "potential", "dissipation"});
+  if (auto n = et.get("kinetic")) {
+    src.kinetic = r.expression(*n, r.key("energy.kinetic"));
+  } else {
+    fail(src.where, r.key("energy.kinetic"), "the kinetic energy T(q, q_d, t), an expression");
+  }
+  src.potential = ExprText{src.where, r.key("energy.potential"), ""};
+  src.dissipation = ExprText{src.where, r.key("energy.dissipation"), ""};
+  if (auto n = et.get("potential")) src.potential = r.expression(*n, r.key("energy.potential"));
+  if (auto n = et.get("dissipation")) {
+    src.dissipation = r.expression(*n, r.key("energy.dissipation"));
+  }
+
+  // Extra generalized forces, by coordinate.
+  if (auto n = model.get("forces")) {
+    const toml::table& t = r.table(*n, r.key("forces"));
+    for (const auto& [name, node] : in_file_order(t)) {
+      const std::string k = r.key("forces." + name);
+      const int i = coordinate_index(src, name);
+      if (i < 0) fail(src.where, k, "a coordinate (one of: " + join(src.coordinates) + ")");
+      src.forces.push_back({i, r.expression(*node, k)});
+    }
+  }
+
+  // Constraints.
+  if (auto n = model.get("constraint")) {
+    const toml::array* arr = n->as_array();
+    if (!arr) {
+      fail(src.where, r.key("constraint"),
+           "an array of tables, written [[" + r.key("constraint") + "]]");
+    }
+    int index = 0;
+    for (const auto& node : *arr) {
+      ++index;
+      const std::string anonymous = r.key("constraint") + "[#" + std::to_string(index) + "]";
+      if (!node.is_table()) fail(src.where, anonymous, "a table, written [[" + r.key("constraint") + "]]");
+      const toml::table& t = *node.as_table();
+      SourceConstraint sc;
+      const toml::node* nm = t.get("name");
+      if (!nm) fail(src.where, anonymous + ".name", "the constraint's name (a string)");
+      sc.spec.name = r.string(*nm, anonymous + ".name", "the constraint's name (a string)");
+      r.name(sc.spec.name, anonymous + ".name");
+      sc.key = r.key("constraint") + "[" + sc.spec.name + "]";
+      r.only(t, sc.key, {"name", "holonomic", "velocity", "velocity0", "active", "from_initial"});
+      const toml::node* hol = t.get("holonomic");
+      const toml::node* vel = t.get("velocity");
+      if ((hol != nullptr) == (vel != nullptr)) {
+        fail(src.where, sc.key,
+             "exactly one of 'holonomic' (Phi(q, t) = 0) and 'velocity' (the coefficients of "
+             "g q_d + g0 = 0)");
+      }
+      if (auto a = t.get("active")) sc.spec.active_by_default = r.boolean(*a, sc.key + ".active");
+      if (auto f = t.get("from_initial")) sc.spec.from_initial = r.boolean(*f, sc.key + ".from_initial");
+      if (hol) {
+        sc.spec.kind = mech::ConstraintKind::holonomic;
+        sc.holonomic = r.expression(*hol, sc.key + ".holonomic");
+        sc.spec.holonomic = sc.holonomic.text;
+        if (t.get("velocity0")) {
+          fail(src.where, sc.key + ".velocity0", "no velocity0 for a holonomic constraint");
+        }
+      } else {
+        sc.spec.kind = mech::ConstraintKind::velocity;
+        if (sc.spec.from_initial) {
+          fail(src.where, sc.key + ".from_initial",
+               "from_initial only for holonomic constraints (a velocity-form row has no "
+               "position to start from)");
+        }
+        const toml::table& vt = r.table(*vel, sc.key + ".velocity");
+        for (const auto& [cname, cnode] : in_file_order(vt)) {
+          const std::string k = sc.key + ".velocity." + cname;
+          const int i = coordinate_index(src, cname);
+          if (i < 0) fail(src.where, k, "a coordinate (one of: " + join(src.coordinates) + ")");
+          sc.velocity.push_back({i, r.expression(*cnode, k)});
+          sc.spec.velocity.push_back({cname, sc.velocity.back().second.text});
+        }
+        sc.velocity0 = ExprText{src.where, sc.key + ".velocity0", ""};
+        if (auto v0 = t.get("velocity0")) {
+          sc.velocity0 = r.expression(*v0, sc.key + ".velocity0");
+          sc.spec.velocity0 = sc.velocity0.text;
+        }
+      }
+      src.constraints.push_back(std::move(sc));
+    }
+  }
+
+  // Outputs.
+  if (auto n = model.get("outputs")) {
+    const toml::table& t = r.table(*n, r.key("outputs"));
+    for (const auto& [name, node] : in_file_order(t)) {
+      const std::string k = r.key("outputs." + name);
+      r.name(name, k);
+      src.outputs.push_back({name, r.expression(*node, k)});
+    }
+  }
+
+  if (auto n = model.get("period")) src.period = r.expression(*n, r.key("period"));
+  if (auto n = model.get("slow")) {
+    const toml::array* arr = n->as_array();
+    if (!arr) fail(src.where, r.key("slow"), "a list of coordinate names");
+    for (const auto& c : *arr) {
+      const std::string name = r.string(c, r.key("slow"), "a list of coordinate names");
+      if (coordinate_index(src, name) < 0) {
+        fail(src.where, r.key("slow"), "coordinate names (one of: " + join(src.coordinates) +
+                                           "), got '" + name + "'");
+      }
+      if (std::find(src.slow.begin(), src.slow.end(), name) != src.slow.end()) {
+        fail(src.where, r.key("slow"), "each coordinate once, got '" + name + "' twice");
+      }
+      src.slow.push_back(name);
+    }
+  }
+  check_unique_names(src);
+  return src;
+}
+
+}  // namespace
+
+// ---- ModelDescription ------------------------------------------------------------------------
+
+struct ModelDescription::Parts {
+  std::shared_ptr<const ModelSource> source;
+  std::shared_ptr<const CompiledModel> compiled;
+};
+
+namespace {
+
+std::shared_ptr<const ModelDescription> build(std::shared_ptr<const ModelSource> src) {
+  std::shared_ptr<CompiledModel> compiled;
+  {
+    std::lock_guard<std::mutex> lock(detail::ginac_mutex());
+    const detail::SymbolicModel sym = detail::derive(*src);
+    compiled = detail::compile_tape(sym, *src);
+  }
+  ModelDescription::Parts parts{std::move(src), std::move(compiled)};
+  return std::make_shared<const ModelDescription>(std::move(parts));
+}
+
+}  // namespace
+
+ModelDescription::ModelDescription(Parts parts) {
+  const ModelSource& src = *parts.source;
+  name_ = src.name;
+  source_ = src.file;
+  coordinates_ = src.coordinates;
+  parameters_ = src.parameters;
+  for (const auto& c : src.constraints) constraints_.push_back(c.spec);
+  for (const auto& [name, e] : src.outputs) outputs_.push_back({name, e.text});
+  if (src.period) period_expression_ = src.period->text;
+  slow_ = src.slow;
+  source_data_ = parts.source;
+  compiled_ = std::move(parts.compiled);
+}
+
+ModelDescription::~ModelDescription() = default;
+
+const ParameterSpec* ModelDescription::parameter(const std::string& name) const {
+  for (const auto& p : parameters_) {
+    if (p.name == name) return &p;
+  }
+  return nullptr;
+}
+
+int ModelDescription::constraint_index(const std::string& name) const {
+  for (std::size_t i = 0; i < constraints_.size(); ++i) {
+    if (constraints_[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::vector<std::string> ModelDescription::default_active_constraints() const {
+  std::vector<std::string> names;
+  for (const auto& c : constraints_) {
+    if (c.active_by_default) names.push_back(c.name);
+  }
+  return names;
+}
+
+std::vector<double> ModelDescription::parameter_values(
+    const std::map<std::string, double>& given) const {
+  const std::string who = "model '" + name_ + "'" + (source_.empty() ? "" : " (" + source_.string() + ")");
+  std::vector<double> values;
+  for (const auto& p : parameters_) values.push_back(p.value);
+  for (const auto& [key, v] : given) {
+    std::size_t i = 0;
+    while (i < parameters_.size() && parameters_[i].name != key) ++i;
+    if (i == parameters_.size()) {
+      std::vector<std::string> names;
+      for (const auto& p : parameters_) names.push_back(p.name);
+      fail(who, "parameters." + key,
+           "not a parameter of the model (parameters: " + join(names) + ")");
+    }
+    const ParameterSpec& p = parameters_[i];
+    if (!p.admits(v)) {
+      fail(who, "parameters." + key,
+           p.range_text() + (p.meaning.empty() ? "" : " (" + p.meaning + ")") + ", got " +
+               number_text(v));
+    }
+    values[i] = v;
+  }
+  return values;
+}
+
+namespace {
+
+// The constant region for these parameter values (hidden constants 0), in a full-size slot
+// array (so blocks can be evaluated in it).
+std::vector<double> constant_region(const CompiledModel& c, const std::vector<double>& params) {
+  const Tape& tape = c.tape;
+  std::vector<double> v(tape.n_slots, 0.0);
+  for (const auto& [slot, value] : tape.literals) v[slot] = value;
+  for (std::size_t i = 0; i < params.size(); ++i) v[tape.parameter_slots[i]] = params[i];
+  run(tape.prelude, v.data());
+  return v;
+}
+
+}  // namespace
+
+double ModelDescription::period(const std::map<std::string, double>& parameter_values_in) const {
+  const std::vector<double> params = parameter_values(parameter_values_in);
+  if (compiled_->period_slot < 0) return std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> v = constant_region(*compiled_, params);
+  return v[static_cast<std::size_t>(compiled_->period_slot)];
+}
+
+std::shared_ptr<const mech::Model> ModelDescription::instantiate(
+    const std::map<std::string, double>& parameters, const Eigen::VectorXd& q0, double t0) const {
+  const std::vector<double> params = parameter_values(parameters);
+  const CompiledModel& c = *compiled_;
+  const Tape& tape = c.tape;
+  std::vector<double> v = constant_region(c, params);
+  bool any_hidden = false;
+  for (std::size_t i = 0; i < c.constraint_blocks.size(); ++i) {
+    if (c.constraint_blocks[i].hidden < 0) continue;
+    if (q0.size() != n()) {
+      throw InputError("model '" + name_ + "': the constraint '" + constraints_[i].name +
+                       "' is fixed at the initial state (from_initial), which needs " +
+                       std::to_string(n()) + " initial coordinates, got " +
+                       std::to_string(q0.size()));
+    }
+    // Φ(q0, t0), with the hidden constant still 0.
+    v[tape.t_slot] = t0;
+    for (int k = 0; k < n(); ++k) v[tape.q_slot + k] = q0[k];
+    const Block& b = tape.blocks[c.constraint_blocks[i].position];
+    run(b.code, v.data());
+    const double phi0 = v[b.results[0]];
+    if (!std::isfinite(phi0)) {
+      throw InputError("model '" + name_ + "': the constraint '" + constraints_[i].name +
+                       "' is not finite at the initial state");
+    }
+    v[tape.hidden_slots[c.constraint_blocks[i].hidden]] = phi0;
+    any_hidden = true;
+  }
+  if (any_hidden) run(tape.prelude, v.data());
+  v.resize(tape.n_constant);
+  return std::make_shared<ExpressionModel>(compiled_, std::move(v));
+}
+
+std::shared_ptr<const ModelDescription> ModelDescription::with_constraints(
+    const std::vector<ExtraConstraint>& extra) const {
+  auto src = std::make_shared<ModelSource>(*std::static_pointer_cast<const ModelSource>(source_data_));
+  for (const ExtraConstraint& e : extra) {
+    SourceConstraint sc;
+    sc.spec.name = e.name;
+    sc.spec.kind = mech::ConstraintKind::holonomic;
+    sc.spec.from_initial = e.from_initial;
+    sc.spec.holonomic = e.holonomic;
+    sc.spec.added = true;
+    const std::string key = e.key.empty() ? "constraint." + e.name : e.key;
+    sc.key = key;
+    sc.holonomic = ExprText{e.origin, key, e.holonomic};
+    const Reader r(e.origin, "");
+    r.name(e.name, key);
+    if (e.holonomic.find_first_not_of(" \t\r\n") == std::string::npos) {
+      fail(e.origin, key, "an expression Phi(q, t) (the constraint Phi = 0), got an empty string");
+    }
+    src->constraints.push_back(std::move(sc));
+  }
+  check_unique_names(*src);
+  return build(std::move(src));
+}
+
+// ---- entry points ----------------------------------------------------------------------------
+
+std::shared_ptr<const ModelDescription> parse_model_table(const toml::table& model,
+                                                          const std::filesystem::path& source,
+                                                          const std::string& key_prefix) {
+  auto src = std::make_shared<const ModelSource>(read_source(model, source, key_prefix));
+  return build(std::move(src));
+}
+
+std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) {
+    throw InputError(file.string() + ": cannot read the model file (no such file)");
+  }
+  toml::table doc;
+  try {
+    doc = toml::parse_file(file.string());
+  } catch (const toml::parse_error& err) {
+    std::ostringstream os;
+    os << file.string();
+    if (err.source().begin.line > 0) os << ":" << err.source().begin.line;
+    os << ": not a valid TOML file: " << err.description();
+    throw InputError(os.str());
+  }
+  for (auto&& [k, v] : doc) {
+    if (k.str() != "model") {
+      fail(file.string(), std::string(k.str()),
+           "unknown key (a model file holds one table, [model])");
+    }
+  }
+  const toml::node* model = doc.get("model");
+  if (!model || !model->is_table()) fail(file.string(), "model", "a [model] table");
+  return parse_model_table(*model->as_table(), file, "model");
+}
+
+}  // namespace pcsim::modelfile

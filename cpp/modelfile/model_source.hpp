@@ -1,0 +1,53 @@
+// Internal: a model file as read from TOML, before any expression is parsed (texts, names,
+// where each came from). What the symbolic derivation (symbolic.hpp) starts from.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/error.hpp"
+#include "modelfile/model_file.hpp"
+
+namespace pcsim::modelfile::detail {
+
+/// An expression as written, and where: messages read "<where>: key '<key>': ...".
+struct ExprText {
+  std::string where;  ///< the file (or another origin, e.g. "command line")
+  std::string key;    ///< the dotted key, e.g. "model.energy.kinetic"
+  std::string text;   ///< the expression ("" = absent)
+};
+
+/// Throws the project's one-line input error: "<where>: key '<key>': <what>".
+[[noreturn]] inline void fail(const std::string& where, const std::string& key,
+                              const std::string& what) {
+  throw InputError(where + ": key '" + key + "': " + what);
+}
+
+struct SourceConstraint {
+  ConstraintSpec spec;
+  std::string key;  ///< "model.constraint[NAME]"
+  ExprText holonomic;                                   ///< holonomic: Φ
+  std::vector<std::pair<int, ExprText>> velocity;       ///< velocity form: coordinate -> g_ik
+  ExprText velocity0;                                   ///< velocity form: g0 ("" = 0)
+};
+
+struct ModelSource {
+  std::string where;   ///< the file, for messages ("<model>" if none)
+  std::filesystem::path file;
+  std::string prefix;  ///< "model"
+  std::string name;
+  std::vector<std::string> coordinates;
+  std::vector<ParameterSpec> parameters;
+  std::vector<std::pair<std::string, ExprText>> definitions;  ///< in file order
+  ExprText kinetic, potential, dissipation;
+  std::vector<std::pair<int, ExprText>> forces;  ///< coordinate index -> extra Q
+  std::vector<SourceConstraint> constraints;
+  std::vector<std::pair<std::string, ExprText>> outputs;  ///< in file order
+  std::optional<ExprText> period;
+  std::vector<std::string> slow;
+};
+
+}  // namespace pcsim::modelfile::detail

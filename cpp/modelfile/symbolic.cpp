@@ -1,0 +1,660 @@
+// Symbolic derivation of a model file and its compilation into a tape (see symbolic.hpp).
+#include "modelfile/symbolic.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "modelfile/expression.hpp"
+
+namespace pcsim::modelfile::detail {
+
+using GiNaC::ex;
+
+namespace {
+
+// ---- derivation ---------------------------------------------------------------------------
+
+// The first symbol of `symbols` that e depends on, or -1.
+int first_used(const ex& e, const std::vector<ex>& symbols) {
+  for (std::size_t i = 0; i < symbols.size(); ++i) {
+    if (e.has(symbols[i])) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::string symbol_name(const ex& s) { return GiNaC::ex_to<GiNaC::symbol>(s).get_name(); }
+
+// Definitions in an order where each comes after the ones it uses; a cycle is an error.
+std::vector<std::size_t> definition_order(const ModelSource& src) {
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < src.definitions.size(); ++i) index[src.definitions[i].first] = i;
+  std::vector<int> state(src.definitions.size(), 0);  // 0 new, 1 on the path, 2 done
+  std::vector<std::size_t> order, path;
+  std::function<void(std::size_t)> visit = [&](std::size_t i) {
+    if (state[i] == 2) return;
+    if (state[i] == 1) {
+      std::string cycle;
+      bool on = false;
+      for (std::size_t p : path) {
+        if (p == i) on = true;
+        if (on) cycle += src.definitions[p].first + " -> ";
+      }
+      cycle += src.definitions[i].first;
+      const ExprText& e = src.definitions[i].second;
+      fail(e.where, e.key, "the definitions refer to each other in a cycle: " + cycle);
+    }
+    state[i] = 1;
+    path.push_back(i);
+    for (const std::string& name : names_used(src.definitions[i].second.text)) {
+      auto it = index.find(name);
+      if (it != index.end()) visit(it->second);
+    }
+    path.pop_back();
+    state[i] = 2;
+    order.push_back(i);
+  };
+  for (std::size_t i = 0; i < src.definitions.size(); ++i) visit(i);
+  return order;
+}
+
+// γ of a row w = g q̇ + g0 (q̇ held fixed): Σ_l ∂w/∂q_l q̇_l + ∂w/∂t.
+ex along_motion(const ex& w, const SymbolicModel& m) {
+  ex out = w.diff(GiNaC::ex_to<GiNaC::symbol>(m.t));
+  for (int l = 0; l < m.n; ++l) out += w.diff(GiNaC::ex_to<GiNaC::symbol>(m.q[l])) * m.qd[l];
+  return out;
+}
+
+const GiNaC::symbol& sym(const ex& e) { return GiNaC::ex_to<GiNaC::symbol>(e); }
+
+}  // namespace
+
+SymbolicModel derive(const ModelSource& src) {
+  SymbolicModel m;
+  const int n = static_cast<int>(src.coordinates.size());
+  m.n = n;
+  ExpressionParser base;
+  for (const std::string& c : src.coordinates) {
+    m.q.push_back(GiNaC::realsymbol(c));
+    m.qd.push_back(GiNaC::realsymbol(c + "_d"));
+    m.qdd.push_back(GiNaC::realsymbol(c + "_dd"));
+    m.R.push_back(GiNaC::realsymbol("R_" + c));
+    base.define(c, m.q.back());
+    base.define(c + "_d", m.qd.back());
+  }
+  m.t = GiNaC::realsymbol("t");
+  base.define("t", m.t);
+  for (const ParameterSpec& p : src.parameters) {
+    m.parameters.push_back(GiNaC::realsymbol(p.name));
+    base.define(p.name, m.parameters.back());
+  }
+  base.add_hint({"R_", "", "the reactions R_<coordinate> may be used only in [" + src.prefix +
+                               ".outputs]"});
+  base.add_hint({"", "_dd", "the accelerations <coordinate>_dd may be used only in [" +
+                                src.prefix + ".outputs]"});
+  for (std::size_t i : definition_order(src)) {
+    const auto& [name, text] = src.definitions[i];
+    base.define(name, base.parse(text));
+  }
+
+  auto no_velocities = [&](const ex& e, const ExprText& text, const std::string& what) {
+    const int k = first_used(e, m.qd);
+    if (k >= 0) {
+      fail(text.where, text.key, what + " may not depend on the velocities (it uses " +
+                                     symbol_name(m.qd[k]) + ")");
+    }
+  };
+
+  // Energies and forces.
+  m.T = base.parse(src.kinetic);
+  m.V = src.potential.text.empty() ? ex(0) : base.parse(src.potential);
+  no_velocities(m.V, src.potential, "the potential energy V(q, t)");
+  m.F = src.dissipation.text.empty() ? ex(0) : base.parse(src.dissipation);
+  std::vector<ex> applied(n, ex(0));
+  for (const auto& [i, text] : src.forces) applied[i] = base.parse(text);
+
+  // M, h: p_j = ∂T/∂q̇_j, M_jk = ∂p_j/∂q̇_k, h_j = Σ_k ∂p_j/∂q_k q̇_k + ∂p_j/∂t − ∂T/∂q_j.
+  m.M.assign(n, std::vector<ex>(n, ex(0)));
+  m.h.assign(n, ex(0));
+  m.Q.assign(n, ex(0));
+  for (int j = 0; j < n; ++j) {
+    const ex p = m.T.diff(sym(m.qd[j]));
+    for (int k = j; k < n; ++k) {
+      const ex Mjk = p.diff(sym(m.qd[k]));
+      for (int l = 0; l < n; ++l) {
+        if (!Mjk.has(m.qd[l])) continue;
+        if (!Mjk.diff(sym(m.qd[l])).expand().is_zero()) {
+          fail(src.kinetic.where, src.kinetic.key,
+               "the kinetic energy T must be quadratic in the velocities (M = d2T/dqd2 "
+               "independent of them), but d2T/d" + symbol_name(m.qd[j]) + "d" +
+                   symbol_name(m.qd[k]) + " depends on " + symbol_name(m.qd[l]));
+        }
+      }
+      m.M[j][k] = m.M[k][j] = Mjk;
+    }
+    m.h[j] = along_motion(p, m) - m.T.diff(sym(m.q[j]));
+    m.Q[j] = -m.V.diff(sym(m.q[j])) - m.F.diff(sym(m.qd[j])) + applied[j];
+  }
+
+  // Constraints: rows g, g0 and γ = d/dt(g q̇ + g0) − g q̈.
+  for (const SourceConstraint& sc : src.constraints) {
+    SymbolicModel::Constraint c;
+    ex w;
+    if (sc.spec.kind == mech::ConstraintKind::holonomic) {
+      const ex phi = base.parse(sc.holonomic);
+      no_velocities(phi, sc.holonomic, "a holonomic constraint Phi(q, t)");
+      if (first_used(phi, m.q) < 0) {
+        fail(sc.holonomic.where, sc.holonomic.key,
+             "the constraint '" + sc.spec.name + "' involves no coordinate (\"" +
+                 sc.holonomic.text + "\")");
+      }
+      c.holonomic = true;
+      c.phi = phi;
+      if (sc.spec.from_initial) {
+        c.hidden = static_cast<int>(m.hidden.size());
+        m.hidden.push_back(GiNaC::realsymbol("Phi0_" + sc.spec.name));
+        c.phi = phi - m.hidden.back();
+      }
+      for (int k = 0; k < n; ++k) c.g.push_back(phi.diff(sym(m.q[k])));
+      c.g0 = phi.diff(sym(m.t));
+    } else {
+      c.holonomic = false;
+      c.phi = 0;
+      c.g.assign(n, ex(0));
+      bool any = false;
+      for (const auto& [k, text] : sc.velocity) {
+        c.g[k] = base.parse(text);
+        no_velocities(c.g[k], text, "a velocity-form coefficient g(q, t)");
+        any = any || !c.g[k].is_zero();
+      }
+      c.g0 = sc.velocity0.text.empty() ? ex(0) : base.parse(sc.velocity0);
+      no_velocities(c.g0, sc.velocity0, "the velocity-form term g0(q, t)");
+      if (!any) {
+        fail(src.where, sc.key + ".velocity",
+             "the constraint '" + sc.spec.name + "' involves no coordinate (every coefficient "
+             "is zero)");
+      }
+    }
+    w = c.g0;
+    for (int k = 0; k < n; ++k) w += c.g[k] * m.qd[k];
+    c.gamma = along_motion(w, m);
+    c.constant_row = true;
+    for (int k = 0; k < n; ++k) {
+      c.constant_row = c.constant_row && first_used(c.g[k], m.q) < 0 && !c.g[k].has(m.t);
+    }
+    m.constraints.push_back(std::move(c));
+  }
+
+  // Outputs may also use the reactions and the accelerations.
+  ExpressionParser out = base;
+  for (int i = 0; i < n; ++i) {
+    out.define("R_" + src.coordinates[i], m.R[i]);
+    out.define(src.coordinates[i] + "_dd", m.qdd[i]);
+  }
+  for (const auto& [name, text] : src.outputs) m.outputs.push_back(out.parse(text));
+
+  if (src.period) {
+    const ex period = base.parse(*src.period);
+    if (first_used(period, m.q) >= 0 || first_used(period, m.qd) >= 0 || period.has(m.t)) {
+      fail(src.period->where, src.period->key,
+           "the period must be an expression of the parameters only (\"" + src.period->text +
+               "\")");
+    }
+    m.period = period;
+  }
+  return m;
+}
+
+// ---- compilation into a tape ---------------------------------------------------------------
+
+namespace {
+
+struct ExHash {
+  std::size_t operator()(const ex& e) const { return e.gethash(); }
+};
+
+struct NodeKey {
+  Op op;
+  std::uint32_t a, b;
+  bool operator==(const NodeKey& o) const { return op == o.op && a == o.a && b == o.b; }
+};
+struct NodeKeyHash {
+  std::size_t operator()(const NodeKey& k) const {
+    std::size_t h = static_cast<std::size_t>(k.op);
+    h = h * 1000003u ^ k.a;
+    h = h * 1000003u ^ k.b;
+    return h;
+  }
+};
+
+class TapeBuilder {
+ public:
+  enum class Kind { instr, literal, parameter, hidden, input };
+  struct Node {
+    Kind kind;
+    Op op = Op::add;
+    std::uint32_t a = 0, b = 0;
+    double value = 0.0;     // literal
+    std::uint32_t index = 0;  // parameter, hidden or input index
+    bool state = false;
+  };
+  std::vector<Node> nodes;
+
+  explicit TapeBuilder(const SymbolicModel& m) {
+    zero = literal(0.0);
+    one = literal(1.0);
+    // Inputs in slot order: t, q, qd, qdd, R.
+    std::uint32_t index = 0;
+    auto input = [&](const ex& s) {
+      Node node{Kind::input};
+      node.index = index++;
+      node.state = true;
+      memo[s] = add_node(node);
+    };
+    input(m.t);
+    for (const auto* v : {&m.q, &m.qd, &m.qdd, &m.R}) {
+      for (const ex& s : *v) input(s);
+    }
+    for (std::size_t i = 0; i < m.parameters.size(); ++i) {
+      Node node{Kind::parameter};
+      node.index = static_cast<std::uint32_t>(i);
+      memo[m.parameters[i]] = add_node(node);
+    }
+    for (std::size_t i = 0; i < m.hidden.size(); ++i) {
+      Node node{Kind::hidden};
+      node.index = static_cast<std::uint32_t>(i);
+      memo[m.hidden[i]] = add_node(node);
+    }
+  }
+
+  std::uint32_t zero = 0, one = 0;
+
+  std::uint32_t literal(double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    if (v == 0.0) bits = 0;  // -0.0 and 0.0 are one literal
+    auto it = literals_.find(bits);
+    if (it != literals_.end()) return it->second;
+    Node node{Kind::literal};
+    node.value = v == 0.0 ? 0.0 : v;
+    const std::uint32_t id = add_node(node);
+    literals_[bits] = id;
+    return id;
+  }
+
+  std::uint32_t op(Op o, std::uint32_t a, std::uint32_t b = 0) {
+    // Fold operations on literals (GiNaC folds most numbers; this catches our own).
+    const bool binary = takes_b(o);
+    if (nodes[a].kind == Kind::literal && (!binary || nodes[b].kind == Kind::literal)) {
+      double v[3] = {nodes[a].value, binary ? nodes[b].value : 0.0, 0.0};
+      const Instr in{o, 2, 0, binary ? 1u : b};
+      run(&in, 1, v);
+      if (std::isfinite(v[2])) return literal(v[2]);
+    }
+    const NodeKey key{o, a, binary || o == Op::powi ? b : 0};
+    auto it = dedupe_.find(key);
+    if (it != dedupe_.end()) return it->second;
+    Node node{Kind::instr};
+    node.op = o;
+    node.a = a;
+    node.b = key.b;
+    node.state = nodes[a].state || (binary && nodes[b].state);
+    const std::uint32_t id = add_node(node);
+    dedupe_[key] = id;
+    return id;
+  }
+
+  static bool takes_b(Op o) {
+    switch (o) {
+      case Op::add: case Op::sub: case Op::mul: case Op::div: case Op::pow: case Op::atan2:
+      case Op::min: case Op::max:
+        return true;
+      default:
+        return false;
+    }
+  }
+
+  std::uint32_t compile(const ex& e) {
+    auto it = memo.find(e);
+    if (it != memo.end()) return it->second;
+    const std::uint32_t id = compile_new(e);
+    memo.emplace(e, id);
+    return id;
+  }
+
+ private:
+  std::unordered_map<ex, std::uint32_t, ExHash, GiNaC::ex_is_equal> memo;
+  std::unordered_map<NodeKey, std::uint32_t, NodeKeyHash> dedupe_;
+  std::unordered_map<std::uint64_t, std::uint32_t> literals_;
+
+  std::uint32_t add_node(const Node& node) {
+    nodes.push_back(node);
+    return static_cast<std::uint32_t>(nodes.size() - 1);
+  }
+
+  static double number(const ex& e) {
+    const GiNaC::numeric& v = GiNaC::ex_to<GiNaC::numeric>(e);
+    if (!v.is_real()) throw std::runtime_error("a complex number");
+    return v.to_double();
+  }
+
+  // c * x for a numeric c (signs folded into neg).
+  std::uint32_t scaled(double c, std::uint32_t x) {
+    if (c == 1.0) return x;
+    if (c == -1.0) return op(Op::neg, x);
+    return op(Op::mul, literal(c), x);
+  }
+
+  // base^k for an integer k >= 1.
+  std::uint32_t int_power(std::uint32_t base, long k) {
+    switch (k) {
+      case 1: return base;
+      case 2: return op(Op::sqr, base);
+      case 3: return op(Op::mul, op(Op::sqr, base), base);
+      case 4: return op(Op::sqr, op(Op::sqr, base));
+      default: return op(Op::powi, base, static_cast<std::uint32_t>(static_cast<std::int32_t>(k)));
+    }
+  }
+
+  // base^exponent with the exponent a GiNaC expression.
+  std::uint32_t power(const ex& base_ex, const ex& exponent) {
+    const std::uint32_t base = compile(base_ex);
+    if (GiNaC::is_a<GiNaC::numeric>(exponent)) {
+      const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(exponent);
+      if (k.is_integer() && GiNaC::abs(k) < 1000) {
+        const long ki = k.to_long();
+        if (ki == 0) return one;
+        if (ki > 0) return int_power(base, ki);
+        return op(Op::recip, int_power(base, -ki));
+      }
+      if (k.is_equal(GiNaC::numeric(1, 2))) return op(Op::sqrt, base);
+      if (k.is_equal(GiNaC::numeric(-1, 2))) return op(Op::recip, op(Op::sqrt, base));
+      return op(Op::pow, base, literal(number(exponent)));
+    }
+    return op(Op::pow, base, compile(exponent));
+  }
+
+  std::uint32_t compile_new(const ex& e) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return literal(number(e));
+    if (GiNaC::is_a<GiNaC::constant>(e)) {
+      if (e.is_equal(GiNaC::Pi)) return literal(M_PI);
+      throw std::runtime_error(std::string("the constant ") + GiNaC::ex_to<GiNaC::basic>(e).class_name());
+    }
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      throw std::runtime_error("the unknown symbol " + symbol_name(e));
+    }
+    if (GiNaC::is_a<GiNaC::add>(e)) {
+      // Σ c_i x_i: positive coefficients first, so that a sum starts without a negation.
+      std::vector<std::pair<double, std::uint32_t>> terms;
+      for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(term(e.op(i)));
+      std::stable_partition(terms.begin(), terms.end(),
+                            [](const auto& t) { return t.first > 0; });
+      std::uint32_t acc = 0;
+      bool have = false;
+      for (const auto& [c, x] : terms) {
+        const double a = std::abs(c);
+        const std::uint32_t ax = scaled(a, x);
+        if (!have) {
+          acc = c > 0 ? ax : op(Op::neg, ax);
+          have = true;
+        } else {
+          acc = op(c > 0 ? Op::add : Op::sub, acc, ax);
+        }
+      }
+      return have ? acc : zero;
+    }
+    if (GiNaC::is_a<GiNaC::mul>(e)) {
+      const auto [c, x] = term(e);
+      return scaled(c, x);
+    }
+    if (GiNaC::is_a<GiNaC::power>(e)) return power(e.op(0), e.op(1));
+    if (GiNaC::is_a<GiNaC::function>(e)) {
+      const GiNaC::function& f = GiNaC::ex_to<GiNaC::function>(e);
+      const std::string name = f.get_name();
+      const unsigned serial = f.get_serial();
+      auto arg = [&](std::size_t i) { return compile(e.op(i)); };
+      if (serial == min_serial()) return op(Op::min, arg(0), arg(1));
+      if (serial == max_serial()) return op(Op::max, arg(0), arg(1));
+      if (serial == heaviside_serial()) return op(Op::step, arg(0));
+      static const std::map<std::string, Op> unary = {
+          {"sin", Op::sin},   {"cos", Op::cos},   {"tan", Op::tan},   {"asin", Op::asin},
+          {"acos", Op::acos}, {"atan", Op::atan}, {"sinh", Op::sinh}, {"cosh", Op::cosh},
+          {"tanh", Op::tanh}, {"exp", Op::exp},   {"log", Op::log},   {"abs", Op::abs},
+          {"csgn", Op::sign}};
+      auto u = unary.find(name);
+      if (u != unary.end() && e.nops() == 1) return op(u->second, arg(0));
+      if (name == "atan2" && e.nops() == 2) return op(Op::atan2, arg(0), arg(1));
+      // Every expression is real: conjugate and real part are the identity.
+      if ((name == "conjugate" || name == "real_part") && e.nops() == 1) return arg(0);
+      if (name == "imag_part" && e.nops() == 1) return zero;
+      throw std::runtime_error("the function " + name);
+    }
+    throw std::runtime_error(std::string("a ") + GiNaC::ex_to<GiNaC::basic>(e).class_name() + " object");
+  }
+
+  // A product as (numeric coefficient, node of the rest): factors with negative numeric
+  // exponents form a denominator, divided once.
+  std::pair<double, std::uint32_t> term(const ex& e) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return {number(e), one};
+    if (!GiNaC::is_a<GiNaC::mul>(e)) return {1.0, compile(e)};
+    double c = 1.0;
+    std::uint32_t num = 0, den = 0;
+    bool have_num = false, have_den = false;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const ex f = e.op(i);
+      if (GiNaC::is_a<GiNaC::numeric>(f)) {
+        c *= number(f);
+        continue;
+      }
+      if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
+          GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
+        const std::uint32_t d = power(f.op(0), -f.op(1));
+        den = have_den ? op(Op::mul, den, d) : d;
+        have_den = true;
+        continue;
+      }
+      const std::uint32_t x = compile(f);
+      num = have_num ? op(Op::mul, num, x) : x;
+      have_num = true;
+    }
+    std::uint32_t x;
+    if (have_den) {
+      x = have_num ? op(Op::div, num, den) : op(Op::recip, den);
+    } else {
+      x = have_num ? num : one;
+    }
+    return {c, x};
+  }
+};
+
+}  // namespace
+
+std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelSource& src) {
+  auto out = std::make_shared<CompiledModel>();
+  CompiledModel& c = *out;
+  const int n = m.n;
+  c.name = src.name;
+  c.coordinates = src.coordinates;
+  for (const auto& [name, text] : src.outputs) c.output_names.push_back(name);
+  for (std::size_t i = 0; i < src.constraints.size(); ++i) {
+    c.constraints.push_back({src.constraints[i].spec.name, src.constraints[i].spec.kind,
+                             m.constraints[i].constant_row});
+  }
+
+  TapeBuilder b(m);
+  auto compile = [&](const ex& e, const ExprText& where) {
+    try {
+      return b.compile(e);
+    } catch (const std::runtime_error& err) {
+      fail(where.where, where.key, std::string("cannot evaluate ") + err.what() +
+                                       " (from \"" + where.text + "\")");
+    }
+  };
+  // Result node lists, one per block.
+  std::vector<std::vector<std::uint32_t>> blocks;
+  {
+    std::vector<std::uint32_t> kin;
+    for (int i = 0; i < n; ++i) {
+      for (int j = i; j < n; ++j) kin.push_back(compile(m.M[i][j], src.kinetic));
+    }
+    for (int i = 0; i < n; ++i) kin.push_back(compile(m.h[i], src.kinetic));
+    c.kinetic_block = static_cast<int>(blocks.size());
+    blocks.push_back(std::move(kin));
+  }
+  {
+    std::vector<std::uint32_t> forces;
+    const ExprText& where = src.potential.text.empty() ? src.kinetic : src.potential;
+    for (int i = 0; i < n; ++i) forces.push_back(compile(m.Q[i], where));
+    c.forces_block = static_cast<int>(blocks.size());
+    blocks.push_back(std::move(forces));
+  }
+  {
+    std::vector<std::uint32_t> outs;
+    for (std::size_t i = 0; i < m.outputs.size(); ++i) {
+      outs.push_back(compile(m.outputs[i], src.outputs[i].second));
+    }
+    c.outputs_block = static_cast<int>(blocks.size());
+    blocks.push_back(std::move(outs));
+  }
+  for (std::size_t i = 0; i < m.constraints.size(); ++i) {
+    const auto& mc = m.constraints[i];
+    const SourceConstraint& sc = src.constraints[i];
+    const ExprText where = mc.holonomic ? sc.holonomic : ExprText{src.where, sc.key, ""};
+    CompiledModel::ConstraintBlocks cb;
+    std::vector<std::uint32_t> rows;
+    for (int k = 0; k < n; ++k) rows.push_back(compile(mc.g[k], where));
+    rows.push_back(compile(mc.g0, where));
+    rows.push_back(compile(mc.gamma, where));
+    cb.rows = static_cast<int>(blocks.size());
+    blocks.push_back(std::move(rows));
+    if (mc.holonomic) {
+      cb.position = static_cast<int>(blocks.size());
+      blocks.push_back({compile(mc.phi, where)});
+    }
+    cb.hidden = mc.hidden;
+    c.constraint_blocks.push_back(cb);
+  }
+  std::int64_t period_node = -1;
+  if (m.period) period_node = compile(*m.period, *src.period);
+
+  // Which nodes are needed: a reverse sweep per block (operands have smaller ids).
+  const std::size_t N = b.nodes.size();
+  std::vector<char> used_any(N, 0);
+  std::vector<std::vector<char>> used(blocks.size());
+  auto mark = [&](std::vector<char>& flags, const std::vector<std::uint32_t>& roots) {
+    flags.assign(N, 0);
+    for (std::uint32_t r : roots) flags[r] = 1;
+    for (std::size_t id = N; id-- > 0;) {
+      if (!flags[id]) continue;
+      used_any[id] = 1;
+      const auto& node = b.nodes[id];
+      if (node.kind != TapeBuilder::Kind::instr) continue;
+      flags[node.a] = 1;
+      if (TapeBuilder::takes_b(node.op)) flags[node.b] = 1;
+    }
+  };
+  for (std::size_t k = 0; k < blocks.size(); ++k) mark(used[k], blocks[k]);
+  if (period_node >= 0) {
+    std::vector<char> flags;
+    mark(flags, {static_cast<std::uint32_t>(period_node)});
+  }
+
+  // Slots: the constant region (literals, parameters, hidden, prelude), then the state region
+  // (inputs t, q, qd, qdd, R, then the state temporaries).
+  Tape& tape = c.tape;
+  tape.n = n;
+  std::vector<std::uint32_t> slot(N, 0);
+  std::uint32_t next = 0;
+  tape.parameter_slots.assign(m.parameters.size(), 0);
+  tape.hidden_slots.assign(m.hidden.size(), 0);
+  for (std::size_t id = 0; id < N; ++id) {
+    const auto& node = b.nodes[id];
+    switch (node.kind) {
+      case TapeBuilder::Kind::literal:
+        slot[id] = next++;
+        tape.literals.push_back({slot[id], node.value});
+        break;
+      case TapeBuilder::Kind::parameter:
+        slot[id] = next++;
+        tape.parameter_slots[node.index] = slot[id];
+        break;
+      case TapeBuilder::Kind::hidden:
+        slot[id] = next++;
+        tape.hidden_slots[node.index] = slot[id];
+        break;
+      default: break;
+    }
+  }
+  for (std::size_t id = 0; id < N; ++id) {
+    const auto& node = b.nodes[id];
+    if (node.kind == TapeBuilder::Kind::instr && !node.state && used_any[id]) slot[id] = next++;
+  }
+  tape.n_constant = next;
+  tape.zero_slot = slot[b.zero];
+  for (std::size_t id = 0; id < N; ++id) {
+    const auto& node = b.nodes[id];
+    if (node.kind == TapeBuilder::Kind::input) slot[id] = next + node.index;
+  }
+  tape.t_slot = next;
+  tape.q_slot = next + 1;
+  tape.qd_slot = tape.q_slot + n;
+  tape.qdd_slot = tape.qd_slot + n;
+  tape.R_slot = tape.qdd_slot + n;
+  next += 1 + 4 * n;
+  for (std::size_t id = 0; id < N; ++id) {
+    const auto& node = b.nodes[id];
+    if (node.kind == TapeBuilder::Kind::instr && node.state && used_any[id]) slot[id] = next++;
+  }
+  tape.n_slots = next;
+
+  auto instr = [&](std::size_t id) {
+    const auto& node = b.nodes[id];
+    Instr in{node.op, slot[id], slot[node.a], 0};
+    in.b = TapeBuilder::takes_b(node.op) ? slot[node.b] : node.b;
+    return in;
+  };
+  for (std::size_t id = 0; id < N; ++id) {
+    const auto& node = b.nodes[id];
+    if (node.kind == TapeBuilder::Kind::instr && !node.state && used_any[id]) {
+      tape.prelude.push_back(instr(id));
+    }
+  }
+  // sin(x) and cos(x) of one x in one block: one sincos instruction, at the first of the two.
+  std::unordered_map<std::uint32_t, std::uint32_t> sin_of, cos_of;  // operand node -> node
+  for (std::size_t id = 0; id < N; ++id) {
+    const auto& node = b.nodes[id];
+    if (node.kind != TapeBuilder::Kind::instr || !node.state) continue;
+    if (node.op == Op::sin) sin_of[node.a] = static_cast<std::uint32_t>(id);
+    if (node.op == Op::cos) cos_of[node.a] = static_cast<std::uint32_t>(id);
+  }
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    Block block;
+    std::vector<char> skip(N, 0);
+    for (std::size_t id = 0; id < N; ++id) {
+      const auto& node = b.nodes[id];
+      if (!used[k][id] || node.kind != TapeBuilder::Kind::instr || !node.state || skip[id]) continue;
+      if (node.op == Op::sin || node.op == Op::cos) {
+        const auto& partner_map = node.op == Op::sin ? cos_of : sin_of;
+        auto p = partner_map.find(node.a);
+        if (p != partner_map.end() && used[k][p->second]) {
+          const std::uint32_t s_id = node.op == Op::sin ? static_cast<std::uint32_t>(id) : p->second;
+          const std::uint32_t c_id = node.op == Op::cos ? static_cast<std::uint32_t>(id) : p->second;
+          block.code.push_back(Instr{Op::sincos, slot[s_id], slot[node.a], slot[c_id]});
+          skip[p->second] = 1;
+          continue;
+        }
+      }
+      block.code.push_back(instr(id));
+    }
+    for (std::uint32_t r : blocks[k]) block.results.push_back(slot[r]);
+    tape.blocks.push_back(std::move(block));
+  }
+  if (period_node >= 0) c.period_slot = slot[period_node];
+  c.index_entries();
+  return out;
+}
+
+}  // namespace pcsim::modelfile::detail

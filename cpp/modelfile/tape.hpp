@@ -1,0 +1,89 @@
+// The flat evaluation tape of a model file: straight-line code over an array of doubles
+// ("slots"), with the values (run) and, in forward mode, k directional derivatives at once
+// (run_tangent). Plain data, no GiNaC: built once by compile_tape (symbolic.hpp), then shared
+// read-only by every thread.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pcsim::modelfile {
+
+/// One operation of the tape. Operands a, b are slots; dst is the result slot.
+enum class Op : std::uint16_t {
+  add,     ///< a + b
+  sub,     ///< a - b
+  mul,     ///< a * b
+  div,     ///< a / b
+  neg,     ///< -a
+  recip,   ///< 1 / a
+  sqr,     ///< a * a
+  powi,    ///< a^k, k = the signed integer in b (|k| >= 3)
+  pow,     ///< a^b
+  sqrt,    ///< sqrt(a)
+  sin, cos, tan, asin, acos, atan,
+  atan2,   ///< atan2(a, b) (a the ordinate)
+  sinh, cosh, tanh, exp, log,
+  abs,     ///< |a|
+  sign,    ///< -1, 0, 1 (GiNaC's csgn on reals)
+  step,    ///< Heaviside: 0 (a < 0), 1/2 (a = 0), 1 (a > 0)
+  min,     ///< min(a, b)
+  max,     ///< max(a, b)
+  sincos,  ///< dst = sin(a), b = cos(a): two results (b is the second result slot)
+};
+
+/// Name of an operation (for listings and messages).
+const char* to_string(Op op);
+
+struct Instr {
+  Op op;
+  std::uint32_t dst, a, b;
+};
+
+/// Straight-line code computing some results, in dependency order, and the slots holding them
+/// afterwards (a result may sit in the constant region, e.g. a constant entry of M).
+struct Block {
+  std::vector<Instr> code;
+  std::vector<std::uint32_t> results;
+};
+
+/// The whole tape of a model. Slot layout:
+///   [0, n_constant)        the constant region: literal numbers, parameters, hidden constants
+///                          (from_initial constraints) and the prelude's results; written once
+///                          per instantiation;
+///   [n_constant, n_slots)  the state region: t, q, qd, qdd, R (n slots each, contiguous from
+///                          state_input) and the state-dependent temporaries.
+struct Tape {
+  int n = 0;                          ///< coordinates
+  std::uint32_t n_slots = 0, n_constant = 0;
+  std::uint32_t zero_slot = 0;        ///< a literal 0 (structural zeros of results point here)
+  std::vector<std::pair<std::uint32_t, double>> literals;
+  std::vector<std::uint32_t> parameter_slots;  ///< by parameter index
+  std::vector<std::uint32_t> hidden_slots;     ///< by hidden-constant index
+  std::uint32_t t_slot = 0, q_slot = 0, qd_slot = 0, qdd_slot = 0, R_slot = 0;  ///< first of n
+  std::vector<Instr> prelude;         ///< everything that depends only on parameters
+  std::vector<Block> blocks;          ///< the state-dependent code, one block per use
+
+  /// Total instruction count of the blocks and the prelude (for listings and benchmarks).
+  std::size_t instruction_count() const;
+};
+
+/// Runs code on the slot values v. No allocation, no exceptions.
+void run(const Instr* code, std::size_t count, double* v);
+inline void run(const std::vector<Instr>& code, double* v) { run(code.data(), code.size(), v); }
+
+/// Runs code on the values v and their tangents d (k per slot, slot-major: d[slot * k + j]):
+/// the forward mode of automatic differentiation on the tape. Slots that code does not write
+/// keep their tangents (the caller seeds the inputs and zeroes the constant region).
+void run_tangent(const Instr* code, std::size_t count, double* v, double* d, int k);
+inline void run_tangent(const std::vector<Instr>& code, double* v, double* d, int k) {
+  run_tangent(code.data(), code.size(), v, d, k);
+}
+
+/// A readable listing of a block (one instruction a line), for debugging and the docs.
+std::string listing(const Tape& tape, const Block& block);
+
+}  // namespace pcsim::modelfile
