@@ -407,7 +407,6 @@ std::string to_toml(const Case& c) {
   return os.str();
 }
 
-const char* to_string(Form form) { return form == Form::ode ? "ode" : "dae"; }
 
 SieveSettings settings_from_case(const Case& c) {
   const toml::table& t = c.table;

@@ -253,7 +253,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
       *model, q0, qd0, so, [&mon](const mech::StepView& v) { return mon.observe(v); });
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  if (res.status != RadauStatus::success) {
+  if (res.status != mech::SimulationStatus::success) {
     throw NumericalError("case '" + c.name + "': the integration failed at t = " +
                              format_double(res.t) + " s: " + res.message,
                          res.t);

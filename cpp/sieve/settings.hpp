@@ -28,7 +28,7 @@ struct SieveParameters {
 };
 
 using Form = mech::Form;  ///< ode: y = (q, q̇); dae: y = (q, v, a, R) as in the paper
-const char* to_string(Form form);
+using mech::to_string;
 
 /// Which constraints are imposed (sieve-model.md section 4).
 struct SieveConstraints {
