@@ -126,7 +126,8 @@ int main(int argc, char** argv) {
     }
     if (en.label.rfind("sieve", 0) == 0) q << 0.0, 0.0, 0.0, 0.4, 0.15, 0.0;
     const double t = 0.3;
-    Dynamics dyn(m, active, Kernel::cpp);
+    Dynamics dyn(m, Kernel::cpp);
+    const ActiveSet set = ActiveSet::of(m, active);
     Eigen::MatrixXd M(m.n(), m.n());
     Eigen::VectorXd h(m.n()), Q(m.n()), g0(active.size()), gam(active.size());
     Eigen::MatrixXd g(active.size(), m.n());
@@ -135,7 +136,7 @@ int main(int argc, char** argv) {
     const double t_g = seconds_per_call([&] { m.constraint_rows(active, t, q, qd, g, g0, gam); }, repeats);
     auto rhs = [&](ReactionMethod method) {
       return seconds_per_call([&] {
-        dyn.evaluate(t, q, qd);
+        dyn.evaluate(set, t, q, qd);
         dyn.solve(method);
       }, repeats);
     };
@@ -170,7 +171,7 @@ int main(int argc, char** argv) {
       std::printf("%-8s %-6s %8.3f %8.3f %8ld %9ld %9ld %8ld %10.1e %s\n", to_string(kernel),
                   form == Form::ode ? "ode" : "dae", wall, cpu, r.stats.steps, r.stats.f_evals,
                   r.stats.jacobians, r.stats.lu_decompositions, r.residual_pos_max,
-                  r.status == RadauStatus::success ? "" : r.message.c_str());
+                  r.status == SimulationStatus::success ? "" : r.message.c_str());
     }
   }
   return 0;

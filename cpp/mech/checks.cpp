@@ -16,6 +16,22 @@ int Model::constraint_index(const std::string& constraint_name) const {
   return -1;
 }
 
+const char* to_string(Form form) { return form == Form::ode ? "ode" : "dae"; }
+
+const char* to_string(SimulationStatus status) {
+  switch (status) {
+    case SimulationStatus::success: return "success";
+    case SimulationStatus::stopped_by_observer: return "stopped by the observer";
+    case SimulationStatus::invalid_model: return "invalid model or constraint set";
+    case SimulationStatus::inconsistent_start: return "inconsistent initial state";
+    case SimulationStatus::integration_failed: return "integration failed";
+    case SimulationStatus::model_failed: return "model evaluation failed";
+    case SimulationStatus::projection_failed: return "drift projection failed";
+    case SimulationStatus::observer_error: return "step observer error";
+  }
+  return "?";
+}
+
 const char* to_string(ModelIssue issue) {
   switch (issue) {
     case ModelIssue::none: return "none";
@@ -74,12 +90,14 @@ CheckResult check_model(const Model& model, const std::vector<std::string>& name
   out.issue = resolve_constraints(model, names, out.active, out.message);
   if (out.issue != ModelIssue::none) return out;
   const int s = static_cast<int>(out.active.size());
-  Dynamics dyn(model, out.active, kernel);
-  out.issue = dyn.evaluate(t, q, qd);
+  Dynamics dyn(model, kernel);
+  const ActiveSet set = ActiveSet::of(model, out.active);
+  out.issue = dyn.evaluate(set, t, q, qd);
   if (out.issue == ModelIssue::none) {
     // Mass matrix first: a singular M is reported as such, not as a constraint problem.
-    Dynamics free(model, {}, kernel);
-    free.evaluate(t, q, qd);
+    Dynamics free(model, kernel);
+    const ActiveSet none;
+    free.evaluate(none, t, q, qd);
     out.issue = free.prepare_compatibility();
     if (out.issue != ModelIssue::none) {
       out.message = free.message();
@@ -193,8 +211,9 @@ ReactionResult reactions(const Model& model, const std::vector<std::string>& act
                   " coordinates";
     return out;
   }
-  Dynamics dyn(model, idx, kernel);
-  out.issue = dyn.evaluate(t, q, qd);
+  Dynamics dyn(model, kernel);
+  const ActiveSet set = ActiveSet::of(model, idx);
+  out.issue = dyn.evaluate(set, t, q, qd);
   if (out.issue == ModelIssue::none) out.issue = dyn.solve(method);
   if (out.issue != ModelIssue::none) {
     out.message = dyn.message();

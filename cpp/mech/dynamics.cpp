@@ -1,6 +1,7 @@
 #include "mech/dynamics.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <sstream>
 
@@ -33,38 +34,54 @@ std::string coordinate_list(const Model& model, const Eigen::VectorXd& v, double
   return out;
 }
 
-Dynamics::Dynamics(const Model& model, std::vector<int> active, Kernel kernel,
-                   Stabilization stabilization, double alpha, double beta)
+namespace {
+unsigned long next_active_set_id() {
+  static std::atomic<unsigned long> counter{0};
+  return ++counter;
+}
+}  // namespace
+
+ActiveSet::ActiveSet(std::vector<int> rows, bool constant_rows)
+    : rows_(std::move(rows)), constant_rows_(constant_rows), id_(next_active_set_id()) {}
+
+ActiveSet ActiveSet::of(const Model& model, std::vector<int> rows) {
+  bool constant = true;
+  for (int i : rows) constant = constant && model.constraints()[i].constant_row;
+  return ActiveSet(std::move(rows), constant);
+}
+
+Dynamics::Dynamics(const Model& model, Kernel kernel, Stabilization stabilization, double alpha,
+                   double beta)
     : model_(&model),
-      active_(std::move(active)),
       kernel_(kernel),
       stabilization_(stabilization),
       alpha_(alpha),
       beta_(beta),
       n_(model.n()),
-      s_(static_cast<int>(active_.size())),
-      constant_rows_(true),
       llt_(model.n()),  // constructed in place: assigning a fresh LLT would copy its
       lu_(model.n()) {  // uninitialized info flag (UBSan)
-  for (int i : active_) constant_rows_ = constant_rows_ && model.constraints()[i].constant_row;
   M.resize(n_, n_);
-  g.resize(s_, n_);
-  G.resize(s_, n_);
   A.resize(n_, n_);
   h.resize(n_);
   Q.resize(n_);
   f.resize(n_);
-  g0.resize(s_);
-  gamma.resize(s_);
-  G0.resize(s_);
   R.resize(n_);
   qdd.resize(n_);
-  q_.resize(n_);
-  qd_.resize(n_);
-  MinvgT_.resize(n_, s_);
   a0_.resize(n_);
   rhs_.resize(n_);
   tmp_.resize(n_);
+  resize_for(0);
+}
+
+void Dynamics::resize_for(int s) {
+  if (s == s_) return;
+  s_ = s;
+  g.resize(s_, n_);
+  G.resize(s_, n_);
+  g0.resize(s_);
+  gamma.resize(s_);
+  G0.resize(s_);
+  MinvgT_.resize(n_, s_);
 }
 
 ModelIssue Dynamics::fail(ModelIssue issue, std::string message) {
@@ -72,13 +89,14 @@ ModelIssue Dynamics::fail(ModelIssue issue, std::string message) {
   return issue;
 }
 
-ModelIssue Dynamics::evaluate(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+ModelIssue Dynamics::evaluate(const ActiveSet& active, double t, const Eigen::VectorXd& q,
+                              const Eigen::VectorXd& qd) {
+  active_ = &active;
+  resize_for(active.size());
   t_ = t;
-  q_ = q;
-  qd_ = qd;
   model_->kinetic_terms(t, q, qd, M, h);
   model_->forces(t, q, qd, Q);
-  if (s_ > 0) model_->constraint_rows(active_, t, q, qd, g, g0, gamma);
+  if (s_ > 0) model_->constraint_rows(active.rows(), t, q, qd, g, g0, gamma);
   // Messages are built only on failure: this runs once per right-hand side evaluation.
   const auto at = [t] { return " at t = " + fmt(t); };
   if (!M.allFinite()) {
@@ -99,7 +117,7 @@ ModelIssue Dynamics::evaluate(double t, const Eigen::VectorXd& q, const Eigen::V
   }
   for (int r = 0; r < s_; ++r) {
     if (!g.row(r).allFinite() || !std::isfinite(g0[r]) || !std::isfinite(gamma[r])) {
-      return fail(ModelIssue::non_finite, "constraint '" + model_->constraints()[active_[r]].name +
+      return fail(ModelIssue::non_finite, "constraint '" + model_->constraints()[active.rows()[r]].name +
                                               "' gives a non-finite row g, g0 or gamma" + at());
     }
   }
@@ -107,8 +125,8 @@ ModelIssue Dynamics::evaluate(double t, const Eigen::VectorXd& q, const Eigen::V
     gamma.noalias() += 2.0 * alpha_ * (g * qd);
     gamma += 2.0 * alpha_ * g0;
     for (int r = 0; r < s_; ++r) {
-      if (model_->constraints()[active_[r]].kind == ConstraintKind::holonomic) {
-        gamma[r] += beta_ * beta_ * model_->position_residual(active_[r], t, q);
+      if (model_->constraints()[active.rows()[r]].kind == ConstraintKind::holonomic) {
+        gamma[r] += beta_ * beta_ * model_->position_residual(active.rows()[r], t, q);
       }
     }
   }
@@ -139,7 +157,7 @@ ModelIssue Dynamics::factorize_mass() {
 }
 
 ModelIssue Dynamics::null_basis() {
-  if (have_D_ && constant_rows_) return ModelIssue::none;
+  if (D_for_ == active_->id() && active_->constant_rows()) return ModelIssue::none;
   HuangOptions ho;
   ho.kernel = kernel_;
   const HuangResult hr = huang_solve(g, Eigen::VectorXd::Zero(s_), ho);
@@ -151,7 +169,7 @@ ModelIssue Dynamics::null_basis() {
     std::string names;
     for (int r = 0; r < s_ && r < static_cast<int>(hr.row_dependent.size()); ++r) {
       if (hr.row_dependent[r]) {
-        names += (names.empty() ? "'" : ", '") + model_->constraints()[active_[r]].name + "'";
+        names += (names.empty() ? "'" : ", '") + model_->constraints()[active_->rows()[r]].name + "'";
       }
     }
     return fail(ModelIssue::dependent_constraints,
@@ -165,7 +183,7 @@ ModelIssue Dynamics::null_basis() {
                                                 std::to_string(nb.info) + ")");
   }
   D = nb.D;
-  have_D_ = true;
+  D_for_ = active_->id();
   return ModelIssue::none;
 }
 
@@ -282,7 +300,8 @@ void Dynamics::dae_residuals(const Eigen::VectorXd& a, const Eigen::VectorXd& Rv
 
 double Dynamics::position_residual(double t, const Eigen::VectorXd& q) const {
   double r = 0.0;
-  for (int i : active_) {
+  if (!active_) return r;
+  for (int i : active_->rows()) {
     if (model_->constraints()[i].kind == ConstraintKind::holonomic) {
       r = std::max(r, std::abs(model_->position_residual(i, t, q)));
     }

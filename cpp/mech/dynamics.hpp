@@ -1,7 +1,9 @@
 // The per-run workspace of the engine (the "Data" beside the immutable Model): evaluates M, h,
-// Q, g, g0, γ at a state and solves for the reactions R and accelerations q̈ by one of the three
-// formulations, without heap allocation after construction (except Huang calls when the
-// constraint rows vary with q or t).
+// Q, g, g0, γ at a state for a given active constraint set and solves for the reactions R and
+// accelerations q̈ by one of the three formulations, without heap allocation after
+// construction (except Huang calls when the constraint rows vary with q or t, or the active set
+// changes). The active set is passed per evaluation, as Pinocchio passes its Data per call, so
+// a run can add and remove constraints.
 #pragma once
 
 #include <string>
@@ -11,21 +13,43 @@
 
 #include "common/kernel.hpp"
 #include "mech/model.hpp"
-#include "mech/simulation.hpp"
+#include "mech/status.hpp"
 
 namespace pcsim::mech {
 
+/// The active constraints of an evaluation: indices into model.constraints(), in row order.
+/// Immutable; each instance has its own identity (id), which lets a workspace keep quantities
+/// that depend only on the set (the null-space basis D of constant rows) until the set changes.
+class ActiveSet {
+ public:
+  ActiveSet() : ActiveSet(std::vector<int>{}, true) {}
+  /// constant_rows: every row is declared constant (ConstraintInfo::constant_row).
+  ActiveSet(std::vector<int> rows, bool constant_rows);
+  /// The set of `rows` of `model`, constant_rows taken from the model's declarations.
+  static ActiveSet of(const Model& model, std::vector<int> rows);
+
+  const std::vector<int>& rows() const { return rows_; }
+  int size() const { return static_cast<int>(rows_.size()); }
+  bool constant_rows() const { return constant_rows_; }
+  unsigned long id() const { return id_; }
+
+ private:
+  std::vector<int> rows_;
+  bool constant_rows_ = true;
+  unsigned long id_ = 0;
+};
+
 class Dynamics {
  public:
-  /// active: indices into model.constraints(). Baumgarte terms are added to γ when
-  /// stabilization == baumgarte.
-  Dynamics(const Model& model, std::vector<int> active, Kernel kernel,
-           Stabilization stabilization = Stabilization::none, double alpha = 0.0,
-           double beta = 0.0);
+  /// Baumgarte terms are added to γ when stabilization == baumgarte.
+  Dynamics(const Model& model, Kernel kernel, Stabilization stabilization = Stabilization::none,
+           double alpha = 0.0, double beta = 0.0);
 
-  /// Evaluates M, h, Q, f = Q − h, g, g0, γ (with Baumgarte terms) at (t, q, qd) and checks
-  /// them for NaN/Inf. Returns the issue (and sets message()) or ModelIssue::none.
-  ModelIssue evaluate(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
+  /// Evaluates M, h, Q, f = Q − h, g, g0, γ (with Baumgarte terms) at (t, q, qd) for the active
+  /// set and checks them for NaN/Inf. Returns the issue (and sets message()) or none. The set
+  /// must stay alive until the next evaluate().
+  ModelIssue evaluate(const ActiveSet& active, double t, const Eigen::VectorXd& q,
+                      const Eigen::VectorXd& qd);
 
   /// After evaluate(): factorizes M and solves for R and q̈ (members R, qdd).
   ModelIssue solve(ReactionMethod method);
@@ -39,7 +63,7 @@ class Dynamics {
   /// Factorizes M and forms G = g M⁻¹, G0 = g M⁻¹ f + γ and D (Huang) without solving for R.
   ModelIssue prepare_compatibility();
 
-  /// max |Φ_i(q, t)| over the active holonomic constraints (0 if none).
+  /// max |Φ_i(q, t)| over the active holonomic constraints of the last evaluate() (0 if none).
   double position_residual(double t, const Eigen::VectorXd& q) const;
   /// max |g q̇ + g0| from the last evaluate().
   double velocity_residual(const Eigen::VectorXd& qd) const;
@@ -47,9 +71,9 @@ class Dynamics {
   const std::string& message() const { return message_; }
   int n() const { return n_; }
   int s() const { return s_; }
-  const std::vector<int>& active() const { return active_; }
+  const Model& model() const { return *model_; }
 
-  // Results of the last evaluate() / solve(), readable by the caller.
+  // Results of the last evaluate() / solve(), readable by the caller (g, G: s x n; D: n x (n-s)).
   Eigen::MatrixXd M, g, D, G, A;
   Eigen::VectorXd h, Q, f, g0, gamma, G0, R, qdd;
 
@@ -60,17 +84,16 @@ class Dynamics {
   ModelIssue solve_compatibility();
   ModelIssue solve_kkt();
   ModelIssue solve_udwadia_kalaba();
+  void resize_for(int s);
 
   const Model* model_;
-  std::vector<int> active_;
+  const ActiveSet* active_ = nullptr;
   Kernel kernel_;
   Stabilization stabilization_;
   double alpha_, beta_;
-  int n_, s_;
-  bool constant_rows_;
-  bool have_D_ = false;
+  int n_, s_ = -1;
+  unsigned long D_for_ = 0;  ///< id of the active set D was computed for (0: none)
   double t_ = 0.0;
-  Eigen::VectorXd q_, qd_;
   std::string message_;
 
   Eigen::LLT<Eigen::MatrixXd> llt_;

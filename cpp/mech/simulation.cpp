@@ -21,13 +21,12 @@ class Run {
   Run(const Model& model, const SimulationOptions& opt, std::vector<int> active)
       : model_(model),
         opt_(opt),
-        active_(active),
-        dyn_(model, active, opt.kernel, opt.stabilization, opt.baumgarte_alpha,
-             opt.baumgarte_beta),
-        sample_dyn_(model, active, opt.kernel, opt.stabilization, opt.baumgarte_alpha,
-                    opt.baumgarte_beta),
+        set_(ActiveSet::of(model, active)),
+        active_(set_.rows()),
+        dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
+        sample_dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
         n_(model.n()),
-        s_(static_cast<int>(active.size())),
+        s_(set_.size()),
         q_(n_),
         qd_(n_),
         a_(n_),
@@ -39,7 +38,7 @@ class Run {
   bool rhs(double t, const double* y, double* out) {
     q_ = Eigen::Map<const Eigen::VectorXd>(y, n_);
     qd_ = Eigen::Map<const Eigen::VectorXd>(y + n_, n_);
-    ModelIssue e = dyn_.evaluate(t, q_, qd_);
+    ModelIssue e = dyn_.evaluate(set_, t, q_, qd_);
     if (opt_.form == Form::ode) {
       if (e == ModelIssue::none) e = dyn_.solve(ReactionMethod::compatibility);
       if (e != ModelIssue::none) return failed(e);
@@ -64,7 +63,7 @@ class Run {
     y.head(n_) = q;
     y.segment(n_, n_) = qd;
     if (opt_.form == Form::dae) {
-      ModelIssue e = sample_dyn_.evaluate(t, q, qd);
+      ModelIssue e = sample_dyn_.evaluate(set_, t, q, qd);
       if (e == ModelIssue::none) e = sample_dyn_.solve(ReactionMethod::compatibility);
       if (e != ModelIssue::none) {
         message_ = sample_dyn_.message();
@@ -81,7 +80,7 @@ class Run {
     out.t = t;
     out.q = q;
     out.qd = qd;
-    ModelIssue e = sample_dyn_.evaluate(t, q, qd);
+    ModelIssue e = sample_dyn_.evaluate(set_, t, q, qd);
     if (e == ModelIssue::none) e = sample_dyn_.solve(ReactionMethod::compatibility);
     if (e == ModelIssue::none) {
       out.qdd = sample_dyn_.qdd;
@@ -101,13 +100,20 @@ class Run {
     return const_cast<Run&>(run).sample_in_step(s);
   }
 
+  // Samples are cached by time within a step: observers often ask for the same instant (the
+  // step end) more than once, and each sample costs a full reaction solve.
   Sample sample_in_step(double s) {
-    if (step_ == nullptr || s >= step_->t || step_->t == step_->t_prev) {
-      return sample(current_t_, current_q_, current_qd_);
+    if (step_ == nullptr || s >= step_->t || step_->t == step_->t_prev) s = current_t_;
+    if (cache_valid_ && cache_.t == s) return cache_;
+    if (s == current_t_) {
+      cache_ = sample(current_t_, current_q_, current_qd_);
+    } else {
+      dense_.resize(ny());
+      step_->dense(std::max(s, step_->t_prev), dense_.data());
+      cache_ = sample(s, dense_.head(n_), dense_.segment(n_, n_));
     }
-    dense_.resize(ny());
-    step_->dense(std::max(s, step_->t_prev), dense_.data());
-    return sample(s, dense_.head(n_), dense_.segment(n_, n_));
+    cache_valid_ = true;
+    return cache_;
   }
 
   // Residuals of the current state; updates the maxima.
@@ -128,6 +134,7 @@ class Run {
     current_t_ = t;
     current_q_ = q;
     current_qd_ = qd;
+    cache_valid_ = false;
     if (!observer) return true;
     StepView view;
     view.t_prev = step ? step->t_prev : t;
@@ -178,6 +185,7 @@ class Run {
 
   const Model& model_;
   SimulationOptions opt_;
+  ActiveSet set_;
   std::vector<int> active_;
   Dynamics dyn_, sample_dyn_;
   int n_, s_;
@@ -186,6 +194,8 @@ class Run {
   const StepInfo* step_ = nullptr;
   double current_t_ = 0.0;
   Eigen::VectorXd current_q_, current_qd_;
+  Sample cache_;
+  bool cache_valid_ = false;
   double res_pos_max_ = 0.0, res_vel_max_ = 0.0;
   ModelIssue last_issue_ = ModelIssue::none;
   std::string last_failure_;
@@ -204,7 +214,7 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   const CheckResult check =
       check_model(model, options.active_constraints, options.t0, q0, qd0, options.kernel);
   if (check.issue != ModelIssue::none) {
-    result.status = RadauStatus::bad_input;
+    result.status = SimulationStatus::invalid_model;
     result.issue = check.issue;
     result.message = "model '" + model.name() + "': " + check.message;
     return result;
@@ -218,7 +228,7 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
                                        options.projection_tol, result.initial_correction_pos,
                                        result.initial_correction_vel, msg, pw);
     if (e != ModelIssue::none) {
-      result.status = RadauStatus::bad_input;
+      result.status = SimulationStatus::inconsistent_start;
       result.issue = e;
       result.message = "model '" + model.name() + "': consistent initial values: " + msg;
       return result;
@@ -227,15 +237,15 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   Run run(model, options, check.active);
   Eigen::VectorXd y0(run.ny());
   if (const ModelIssue e = run.fill_state(options.t0, q, qd, y0); e != ModelIssue::none) {
-    result.status = RadauStatus::bad_input;
+    result.status = SimulationStatus::invalid_model;
     result.issue = e;
     result.message = "model '" + model.name() + "': at the initial state: " + run.message_;
     return result;
   }
   run.track_residuals(options.t0, q, qd);
   if (!run.observe(nullptr, options.t0, q, qd, observer)) {
-    result.status = run.observer_error_.empty() ? RadauStatus::stopped_by_callback
-                                                : RadauStatus::callback_error;
+    result.status = run.observer_error_.empty() ? SimulationStatus::stopped_by_observer
+                                                : SimulationStatus::observer_error;
     result.message = run.observer_error_;
     result.q_end = q;
     result.qd_end = qd;
@@ -262,7 +272,10 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
       problem, options.t0, y0, options.t_end, ro,
       [&run, &observer](StepInfo& step) { return run.on_step(step, observer); });
 
-  result.status = rr.status;
+  result.integrator_status = rr.status;
+  result.status = rr.status == RadauStatus::success               ? SimulationStatus::success
+                  : rr.status == RadauStatus::stopped_by_callback ? SimulationStatus::stopped_by_observer
+                                                                  : SimulationStatus::integration_failed;
   result.t = rr.t;
   result.stats = rr.stats;
   result.message = rr.message;
@@ -271,14 +284,15 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   result.residual_pos_max = run.res_pos_max_;
   result.residual_vel_max = run.res_vel_max_;
   if (run.projection_issue_ != ModelIssue::none) {
-    result.status = RadauStatus::callback_error;
+    result.status = SimulationStatus::projection_failed;
     result.issue = run.projection_issue_;
     result.message = "drift projection failed at t = " + std::to_string(rr.t) + ": " + run.message_;
   } else if (!run.observer_error_.empty()) {
-    result.status = RadauStatus::callback_error;
+    result.status = SimulationStatus::observer_error;
     result.message = run.observer_error_;
   } else if (rr.status != RadauStatus::success && rr.status != RadauStatus::stopped_by_callback &&
              run.last_issue_ != ModelIssue::none) {
+    result.status = SimulationStatus::model_failed;
     result.issue = run.last_issue_;
     result.message += (result.message.empty() ? "" : "; ") +
                       std::string("the model could not be evaluated: ") + run.last_failure_;

@@ -10,38 +10,10 @@
 
 #include "common/kernel.hpp"
 #include "mech/model.hpp"
+#include "mech/status.hpp"
 #include "ode/radau.hpp"
 
 namespace pcsim::mech {
-
-enum class Form {
-  ode,  ///< y = (q, q̇); R computed inside the right-hand side
-  dae,  ///< y = (q, v, a, R), K = diag(I, I, 0, 0): q' = v, v' = a, 0 = M a + h − Q − R,
-        ///< 0 = [G; Dᵀ] R + [G0; 0]  (index 1 in a and R), as in the paper
-};
-enum class Stabilization {
-  none,        ///< acceleration-level constraints only: drift grows
-  projection,  ///< minimum-norm (Huang) correction of q and q̇ after every accepted step
-  baumgarte,   ///< g q̈ + γ + 2α (g q̇ + g0) + β² Φ = 0 instead of g q̈ + γ = 0
-};
-enum class ReactionMethod {
-  compatibility,    ///< [G; Dᵀ] R = [−G0; 0], D from the Huang kernel (the paper's method)
-  kkt,              ///< Lagrange multipliers: R = gᵀλ, (g M⁻¹ gᵀ) λ = −G0
-  udwadia_kalaba,   ///< R = M^{1/2} (g M^{-1/2})⁺ (−G0)
-};
-
-/// What went wrong with a model or constraint set, found before (or during) integration.
-enum class ModelIssue {
-  none,
-  unknown_constraint,        ///< an active constraint name the model does not offer
-  singular_mass_matrix,      ///< M not symmetric positive definite
-  dependent_constraints,     ///< an active row depends linearly on earlier ones (rank < s)
-  inconsistent_constraints,  ///< dependent rows whose right-hand sides contradict
-  non_finite,                ///< NaN or Inf in T's derivatives, Q, g, g0 or γ
-  not_constant_row,          ///< a row declared constant_row varies with q or t
-  kernel_failure,            ///< the Huang kernel returned an error
-};
-const char* to_string(ModelIssue issue);
 
 struct SimulationOptions {
   Kernel kernel = Kernel::fortran;  ///< Huang and Radau kernel path
@@ -85,7 +57,8 @@ class StepView {
 using StepObserver = std::function<bool(const StepView&)>;
 
 struct SimulationResult {
-  RadauStatus status = RadauStatus::bad_input;
+  SimulationStatus status = SimulationStatus::invalid_model;
+  RadauStatus integrator_status = RadauStatus::bad_input;  ///< the integrator's own status
   ModelIssue issue = ModelIssue::none;  ///< the cause when the model or constraints are bad
   std::string message;                  ///< human-readable reason on failure (names things)
   double t = 0.0;                       ///< time reached

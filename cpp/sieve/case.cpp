@@ -89,6 +89,9 @@ const std::vector<KeySpec>& schema() {
       {"initial", "phi_d", Type::number, Rule::any_finite, "initial phi rate, rad/s"},
       {"constraints", "contact", Type::boolean, Rule::none, "(3.1) u = u0"},
       {"constraints", "rolling", Type::boolean, Rule::none, "(3.2) rolling without slip"},
+      {"constraints", "rolling_as_printed", Type::boolean, Rule::none,
+       "(3.2) with the paper's printed sign s - r phi = const instead of s + r phi = const "
+       "(erratum 7)"},
       {"constraints", "lock_theta", Type::boolean, Rule::none, "theta = 0"},
       {"solver", "kernel", Type::string, Rule::kernel, "the kernel implementation"},
       {"solver", "form", Type::string, Rule::form, "the formulation"},
@@ -247,6 +250,7 @@ void fill_and_validate(const std::filesystem::path& file, toml::table& t) {
   for (const char* c : {"contact", "rolling"})
     if (!con.contains(c)) con.insert(c, true);
   if (!con.contains("lock_theta")) con.insert("lock_theta", false);
+  if (!con.contains("rolling_as_printed")) con.insert("rolling_as_printed", false);
   toml::table& sol = *t["solver"].as_table();
   if (!sol.contains("kernel")) sol.insert("kernel", "fortran");
   if (!sol.contains("form")) sol.insert("form", "ode");
@@ -281,10 +285,16 @@ void fill_and_validate(const std::filesystem::path& file, toml::table& t) {
            describe(*ini.get("u_d")));
   }
   if (*con["rolling"].value<bool>()) {
-    if (!near(initial("s_d", 0), r * initial("phi_d", 0)))
-      fail(file, "initial.s_d",
-           "r * initial.phi_d (constraints.rolling = true imposes s' = r phi')",
+    if (*con["rolling_as_printed"].value<bool>()) {
+      if (!near(initial("s_d", 0), r * initial("phi_d", 0)))
+        fail(file, "initial.s_d",
+             "r * initial.phi_d (constraints.rolling = true with rolling_as_printed imposes "
+             "s' = r phi')",
+             describe(*ini.get(ini.contains("s_d") ? "s_d" : "phi_d")));
+    } else if (!near(initial("s_d", 0), -r * initial("phi_d", 0))) {
+      fail(file, "initial.s_d", "-r * initial.phi_d (constraints.rolling = true imposes s' = -r phi')",
            describe(*ini.get(ini.contains("s_d") ? "s_d" : "phi_d")));
+    }
   }
   if (*con["lock_theta"].value<bool>()) {
     if (!near(initial("theta", 0), 0))
@@ -397,7 +407,6 @@ std::string to_toml(const Case& c) {
   return os.str();
 }
 
-const char* to_string(Form form) { return form == Form::ode ? "ode" : "dae"; }
 
 SieveSettings settings_from_case(const Case& c) {
   const toml::table& t = c.table;
@@ -416,6 +425,7 @@ SieveSettings settings_from_case(const Case& c) {
   s.constraints.contact = *t["constraints"]["contact"].value<bool>();
   s.constraints.rolling = *t["constraints"]["rolling"].value<bool>();
   s.constraints.lock_theta = *t["constraints"]["lock_theta"].value<bool>();
+  s.constraints.rolling_as_printed = *t["constraints"]["rolling_as_printed"].value<bool>();
   const toml::table& ini = *t["initial"].as_table();
   const double s0 = *ini["s0"].value<double>();
   const std::array<double, 6> q_default = {0, 0, 0, s0, p.u0, 0};

@@ -18,7 +18,8 @@ std::shared_ptr<const mech::Model> make_sieve_model(const SieveSettings& setting
                                                      ModelForm form) {
   SieveCommon common;
   common.p = settings.p;
-  common.rolling_constant = settings.q0[3] - settings.p.r * settings.q0[5];
+  common.rolling_sign = settings.constraints.rolling_as_printed ? -1.0 : 1.0;
+  common.rolling_constant = settings.q0[3] + common.rolling_sign * settings.p.r * settings.q0[5];
   if (form == ModelForm::analytic) return make_analytic_sieve_model(common);
   if (form == ModelForm::closed_form) {
     SieveClosedForm m;

@@ -33,14 +33,21 @@ struct SieveCommon {
   /// fixed-size derivative vectors, which Eigen unrolls (results bit-identical, ~2x faster).
   static constexpr int kCoordinates = 6;
   SieveParameters p;
-  double rolling_constant = 0.0;  ///< s(0) - r phi(0): the rolling constraint's constant
+  /// The sign of r phi in the rolling condition (3.2): +1 for s + r phi = const, the physical
+  /// rolling (erratum 7: (3.4) measures phi in the sense of theta, and the contact point lies
+  /// below the roller's centre, so its velocity along the deck is s' + r phi'); -1 for the
+  /// paper's printed s - r phi = const (constraints.rolling_as_printed), a roller turning
+  /// against the deck whose contact point slides at 2 s'.
+  double rolling_sign = 1.0;
+  double rolling_constant = 0.0;  ///< s(0) + rolling_sign r phi(0): the rolling constant
 
   std::vector<std::string> coordinates() const {
     return {kCoordinateNames.begin(), kCoordinateNames.end()};
   }
 
-  /// contact (3.1) u = u0; rolling (3.2) s - r phi = s(0) - r phi(0) (holonomic);
-  /// rolling_velocity, the same as the paper's velocity form g = [0,0,0,1,0,-r], g0 = 0;
+  /// contact (3.1) u = u0; rolling (3.2) s + r phi = s(0) + r phi(0) (holonomic; the sign of
+  /// r phi is rolling_sign); rolling_velocity, the same in the paper's velocity form
+  /// g = [0,0,0,1,0,r], g0 = 0;
   /// lock_theta: theta = 0. Every row is constant.
   std::vector<mech::ConstraintInfo> constraints() const {
     using mech::ConstraintKind;
@@ -53,7 +60,7 @@ struct SieveCommon {
   template <class S> S holonomic(int i, const VecX<S>& q, const S& /*t*/) const {
     switch (i) {
       case 0: return q(4) - p.u0;
-      case 1: return q(3) - p.r * q(5) - rolling_constant;
+      case 1: return q(3) + rolling_sign * p.r * q(5) - rolling_constant;
       default: return q(2);  // 3: lock_theta
     }
   }
@@ -64,7 +71,7 @@ struct SieveCommon {
     // Only rolling_velocity (index 2) is a velocity-form constraint.
     g_row.setZero();
     g_row(3) = S(1.0);
-    g_row(5) = S(-p.r);
+    g_row(5) = S(rolling_sign * p.r);
     g0 = S(0.0);
   }
 

@@ -253,7 +253,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
       *model, q0, qd0, so, [&mon](const mech::StepView& v) { return mon.observe(v); });
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  if (res.status != RadauStatus::success) {
+  if (res.status != mech::SimulationStatus::success) {
     throw NumericalError("case '" + c.name + "': the integration failed at t = " +
                              format_double(res.t) + " s: " + res.message,
                          res.t);
@@ -326,6 +326,9 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   }
   as["initial_state"] = "q = (0, 0, 0, s0, u0, 0), q_d = 0 unless [initial] sets them";
   as["constraints"] = so.active_constraints;
+  j["rolling_condition"] = set.constraints.rolling_as_printed
+                               ? "s - r phi = const (as printed in (3.2); not physical rolling)"
+                               : "s + r phi = const (erratum 7 of (3.2))";
   j["assumptions"] = as;
   j["output_dt"] = set.output.dt;
   j["summary_periods"] = set.output.summary_periods;
@@ -363,6 +366,7 @@ std::string human_report(const Case& c, const nlohmann::json& s) {
   }
   os << "\n  constraints:";
   for (const auto& n : s["assumptions"]["constraints"]) os << ' ' << n.get<std::string>();
+  if (s.contains("rolling_condition")) os << "; rolling: " << s["rolling_condition"].get<std::string>();
   std::snprintf(buf, sizeof buf, "\n  summary window: t = %.4f .. %.4f s (last %d excitation periods%s)\n",
                 s["window"][0].get<double>(), s["window"][1].get<double>(),
                 s["summary_periods"].get<int>(),

@@ -28,12 +28,15 @@ struct SieveParameters {
 };
 
 using Form = mech::Form;  ///< ode: y = (q, q̇); dae: y = (q, v, a, R) as in the paper
-const char* to_string(Form form);
+using mech::to_string;
 
 /// Which constraints are imposed (sieve-model.md section 4).
 struct SieveConstraints {
   bool contact = true;      ///< (3.1) u = u0
-  bool rolling = true;      ///< (3.2) s - r phi = s(0) - r phi(0)
+  bool rolling = true;      ///< (3.2) s + r phi = s(0) + r phi(0) (erratum 7)
+  /// (3.2) with the paper's printed sign, s - r phi = s(0) - r phi(0): reproduces results
+  /// computed before erratum 7; not physical rolling (the contact point slides at 2 s').
+  bool rolling_as_printed = false;
   bool lock_theta = false;  ///< theta = 0 (the desk without incline vibration)
 };
 

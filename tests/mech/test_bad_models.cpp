@@ -81,7 +81,7 @@ BOOST_AUTO_TEST_CASE(singular_mass_matrix_is_reported_naming_the_coordinate) {
   const auto model = make_model(NoInertia{});
   SimulationOptions o;
   const SimulationResult r = simulate(*model, Eigen::Vector2d(0, 1), Eigen::Vector2d(0, 0), o);
-  BOOST_TEST(static_cast<int>(r.status) == static_cast<int>(RadauStatus::bad_input));
+  BOOST_TEST(static_cast<int>(r.status) == static_cast<int>(SimulationStatus::invalid_model));
   BOOST_TEST(static_cast<int>(r.issue) == static_cast<int>(ModelIssue::singular_mass_matrix));
   BOOST_TEST_MESSAGE(r.message);
   BOOST_TEST(contains(r.message, "mass matrix"));
@@ -100,7 +100,7 @@ BOOST_AUTO_TEST_CASE(dependent_constraints_are_reported_by_name_before_integrati
     const SimulationResult r = simulate(*model, slider_crank_q(), Eigen::VectorXd::Zero(5), o);
     BOOST_TEST_MESSAGE(r.message);
     BOOST_TEST(static_cast<int>(r.issue) == static_cast<int>(ModelIssue::dependent_constraints));
-    BOOST_TEST(static_cast<int>(r.status) == static_cast<int>(RadauStatus::bad_input));
+    BOOST_TEST(static_cast<int>(r.status) == static_cast<int>(SimulationStatus::invalid_model));
     BOOST_TEST(r.stats.steps == 0);
     BOOST_TEST(contains(r.message, "'B_y_copy' is redundant"));
     BOOST_TEST(contains(r.message, "'B_y'"));  // it is a multiple of B_y alone
@@ -142,7 +142,7 @@ BOOST_AUTO_TEST_CASE(nan_in_forces_during_the_run_ends_it_with_the_cause) {
   o.kernel = Kernel::cpp;
   const SimulationResult r = simulate(*model, Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 0), o);
   BOOST_TEST_MESSAGE(to_string(r.status) << ": " << r.message);
-  BOOST_TEST(static_cast<int>(r.status) != static_cast<int>(RadauStatus::success));
+  BOOST_TEST(static_cast<int>(r.status) == static_cast<int>(SimulationStatus::model_failed));
   BOOST_TEST(static_cast<int>(r.issue) == static_cast<int>(ModelIssue::non_finite));
   BOOST_TEST(contains(r.message, "generalized forces"));
   BOOST_TEST(r.t <= 0.5 + 1e-12);

@@ -1,13 +1,23 @@
 # Runs one case through `pcsim run` and compares its summary.json with the stored reference.
-# Usage: cmake -DPCSIM=... -DCOMPARE=... -DCASE=... -DREFERENCE=... -DOUT=... -P run_case.cmake
+# Usage: cmake -DPCSIM=... -DCOMPARE=... -DCASE=... -DREFERENCE=... -DOUT=...
+#              [-DSET=KEY=VALUE] [-DEXACT=ON] -P run_case.cmake
 file(REMOVE_RECURSE "${OUT}")
-execute_process(COMMAND "${PCSIM}" run "${CASE}" --out "${OUT}"
+set(_set_args)
+if(SET)
+  set(_set_args --set "${SET}")
+endif()
+set(_exact)
+if(EXACT)
+  set(_exact --exact)
+endif()
+execute_process(COMMAND "${PCSIM}" run "${CASE}" ${_set_args} --out "${OUT}"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message("${out}")
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "pcsim run ${CASE} failed (exit ${rc}): ${err}")
 endif()
-execute_process(COMMAND "${COMPARE}" "${OUT}/summary.json" "${REFERENCE}" RESULT_VARIABLE rc)
+execute_process(COMMAND "${COMPARE}" ${_exact} "${OUT}/summary.json" "${REFERENCE}"
+                RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "summary of ${CASE} differs from ${REFERENCE}")
 endif()

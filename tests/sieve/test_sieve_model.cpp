@@ -47,14 +47,14 @@ SieveSettings general_settings() {
   return set;
 }
 
-// A random state moved onto the contact (u = u0) and rolling (s - r phi = s0 - r phi0)
+// A random state moved onto the contact (u = u0) and rolling (s + r phi = s0 + r phi0)
 // constraints, positions and velocities, so reactions can be evaluated there.
 RandomState random_state_on_constraints(std::mt19937& rng, const SieveSettings& set) {
   RandomState s = random_state(rng);
   s.q(4) = set.p.u0;
-  s.q(3) = set.q0[3] + set.p.r * (s.q(5) - set.q0[5]);
+  s.q(3) = set.q0[3] - set.p.r * (s.q(5) - set.q0[5]);
   s.qd(4) = 0;
-  s.qd(3) = set.p.r * s.qd(5);
+  s.qd(3) = -set.p.r * s.qd(5);
   return s;
 }
 
@@ -153,7 +153,7 @@ BOOST_AUTO_TEST_CASE(printed_damper_sign_of_3_4b_disagrees_with_the_geometry) {
 }
 
 // Ideality (sieve-model.md section 4): with contact and rolling, Dᵀ R = 0 gives
-// R_x = R_y = R_θ = 0 and R_φ = −r R_s. Tolerance 1e-9 relative to |R|: R comes from a
+// R_x = R_y = R_θ = 0 and R_φ = r R_s (erratum 7: the rolling row is [0,0,0,1,0,r]). Tolerance 1e-9 relative to |R|: R comes from a
 // 6x6 solve with condition ~1e6 (m1/J2-scale spread of M).
 BOOST_AUTO_TEST_CASE(reactions_obey_the_ideality_criterion) {
   const SieveSettings set = general_settings();
@@ -168,7 +168,7 @@ BOOST_AUTO_TEST_CASE(reactions_obey_the_ideality_criterion) {
     BOOST_TEST(std::abs(r.R(0)) <= 1e-9 * scale);
     BOOST_TEST(std::abs(r.R(1)) <= 1e-9 * scale);
     BOOST_TEST(std::abs(r.R(2)) <= 1e-9 * scale);
-    BOOST_TEST(std::abs(r.R(5) + set.p.r * r.R(3)) <= 1e-9 * scale);
+    BOOST_TEST(std::abs(r.R(5) - set.p.r * r.R(3)) <= 1e-9 * scale);
   }
 }
 
@@ -198,7 +198,7 @@ BOOST_AUTO_TEST_CASE(roller_at_rest_on_level_deck_carries_its_weight) {
 }
 
 // The roller's own spin equation, an exact relation the engine does not use directly:
-// J2 (θ̈ + φ̈) = Q_φ + R_φ = −r R_s (no applied moment about the roller centre). Tolerance 1e-8
+// J2 (θ̈ + φ̈) = Q_φ + R_φ = r R_s (no applied moment about the roller centre). Tolerance 1e-8
 // relative: θ̈ + φ̈ is the small difference of accelerations of order R/J2.
 BOOST_AUTO_TEST_CASE(rolling_reaction_balances_the_roller_spin) {
   SieveSettings set = general_settings();
@@ -208,9 +208,9 @@ BOOST_AUTO_TEST_CASE(rolling_reaction_balances_the_roller_spin) {
     const RandomState s = random_state_on_constraints(rng, set);
     const auto r = mech::reactions(*geo, {"contact", "rolling"}, s.t, s.q, s.qd);
     BOOST_TEST_REQUIRE(static_cast<int>(r.issue) == static_cast<int>(mech::ModelIssue::none));
-    // Roller spin: J2 (θ̈ + φ̈) = R_φ = −r R_s (no other moment about the roller centre).
+    // Roller spin: J2 (θ̈ + φ̈) = R_φ = r R_s (no other moment about the roller centre).
     const double spin = set.p.J2 * (r.qdd(2) + r.qdd(5));
-    BOOST_TEST(std::abs(spin + set.p.r * r.R(3)) <= 1e-8 * (std::abs(spin) + 1e-12));
+    BOOST_TEST(std::abs(spin - set.p.r * r.R(3)) <= 1e-8 * (std::abs(spin) + 1e-12));
   }
 }
 

@@ -17,11 +17,14 @@
 #include "common/error.hpp"
 #include "sieve/case.hpp"
 #include "sieve/run.hpp"
+#include "csv_util.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;
 namespace fs = std::filesystem;
 using nlohmann::json;
+using pcsim::testing::Csv;
+using pcsim::testing::read_csv;
 
 namespace {
 
@@ -45,30 +48,6 @@ Case short_case(std::vector<Override> extra = {}) {
   std::vector<Override> o = {{"solver.t_end", "0.2"}};
   o.insert(o.end(), extra.begin(), extra.end());
   return load_case(kCase, o);
-}
-
-struct Csv {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-  int col(const std::string& name) const {
-    return static_cast<int>(std::find(header.begin(), header.end(), name) - header.begin());
-  }
-};
-
-Csv read_csv(const fs::path& file) {
-  Csv c;
-  std::ifstream in(file);
-  std::string line, cell;
-  std::getline(in, line);
-  std::stringstream hs(line);
-  while (std::getline(hs, cell, ',')) c.header.push_back(cell);
-  while (std::getline(in, line)) {
-    std::stringstream ls(line);
-    std::vector<double> row;
-    while (std::getline(ls, cell, ',')) row.push_back(std::stod(cell));
-    c.rows.push_back(row);
-  }
-  return c;
 }
 
 double rel(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
