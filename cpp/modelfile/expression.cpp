@@ -270,6 +270,13 @@ ex ExpressionParser::parse(const ExprText& e) const {
       }
       std::string hint;
       for (const Hint& h : hints_) {
+        if (h.exact) {
+          if (tk.text == h.prefix) {
+            hint = " (" + h.text + ")";
+            break;
+          }
+          continue;
+        }
         if (tk.text.size() > h.prefix.size() + h.suffix.size() &&
             tk.text.compare(0, h.prefix.size(), h.prefix) == 0 &&
             tk.text.compare(tk.text.size() - h.suffix.size(), h.suffix.size(), h.suffix) == 0) {

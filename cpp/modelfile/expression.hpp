@@ -62,6 +62,7 @@ class ExpressionParser {
   /// [model.outputs]). Checked in order; the first prefix/suffix match wins.
   struct Hint {
     std::string prefix, suffix, text;
+    bool exact = false;  ///< the name equals prefix (suffix unused)
   };
   void add_hint(Hint hint) { hints_.push_back(std::move(hint)); }
 

@@ -229,8 +229,11 @@ void check_unique_names(const ModelSource& src) {
   for (const auto& [name, e] : src.outputs) declare(name, "an output", e.where, e.key);
 }
 
-ModelSource read_source(const toml::table& model, const std::filesystem::path& source,
-                        const std::string& prefix) {
+}  // namespace
+
+ModelSource detail::read_model_source(const toml::table& model,
+                                      const std::filesystem::path& source,
+                                      const std::string& prefix) {
   ModelSource src;
   src.file = source;
   src.where = source.empty() ? std::string("<model>") : source.string();
@@ -399,8 +402,6 @@ ModelSource read_source(const toml::table& model, const std::filesystem::path& s
   check_unique_names(src);
   return src;
 }
-
-}  // namespace
 
 // ---- ModelDescription ------------------------------------------------------------------------
 
@@ -571,11 +572,12 @@ std::shared_ptr<const ModelDescription> ModelDescription::with_constraints(
 std::shared_ptr<const ModelDescription> parse_model_table(const toml::table& model,
                                                           const std::filesystem::path& source,
                                                           const std::string& key_prefix) {
-  auto src = std::make_shared<const ModelSource>(read_source(model, source, key_prefix));
+  auto src =
+      std::make_shared<const ModelSource>(detail::read_model_source(model, source, key_prefix));
   return build(std::move(src));
 }
 
-std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::path& file) {
+ModelSource detail::load_model_source(const std::filesystem::path& file) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) {
     throw InputError(file.string() + ": cannot read the model file (no such file)");
@@ -598,7 +600,11 @@ std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::p
   }
   const toml::node* model = doc.get("model");
   if (!model || !model->is_table()) fail(file.string(), "model", "a [model] table");
-  return parse_model_table(*model->as_table(), file, "model");
+  return read_model_source(*model->as_table(), file, "model");
+}
+
+std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::path& file) {
+  return build(std::make_shared<const ModelSource>(detail::load_model_source(file)));
 }
 
 }  // namespace pcsim::modelfile

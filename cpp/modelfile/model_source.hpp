@@ -50,4 +50,10 @@ struct ModelSource {
   std::vector<std::string> slow;
 };
 
+/// Reads a [model] table (names checked, nothing parsed yet). Throws InputError.
+ModelSource read_model_source(const toml::table& model, const std::filesystem::path& source,
+                              const std::string& prefix);
+/// Reads a model file's [model] table. Throws InputError.
+ModelSource load_model_source(const std::filesystem::path& file);
+
 }  // namespace pcsim::modelfile::detail

@@ -91,13 +91,33 @@ SymbolicModel derive(const ModelSource& src) {
     m.parameters.push_back(GiNaC::realsymbol(p.name));
     base.define(p.name, m.parameters.back());
   }
-  base.add_hint({"R_", "", "the reactions R_<coordinate> may be used only in [" + src.prefix +
-                               ".outputs]"});
+  // Outputs may also use the reactions and the accelerations, and so may definitions that
+  // only outputs use.
+  ExpressionParser out = base;
+  for (int i = 0; i < n; ++i) {
+    out.define("R_" + src.coordinates[i], m.R[i]);
+    out.define(src.coordinates[i] + "_dd", m.qdd[i]);
+  }
+  const std::string outputs_key = src.prefix.empty() ? "outputs" : src.prefix + ".outputs";
+  std::string coordinate_list;
+  for (const auto& c : src.coordinates) coordinate_list += (coordinate_list.empty() ? "" : ", ") + c;
+  out.add_hint({"R_", "", "R_<coordinate> is the reaction of a coordinate; the coordinates are " +
+                              coordinate_list});
+  out.add_hint({"", "_dd", "<coordinate>_dd is the acceleration of a coordinate; the coordinates "
+                           "are " + coordinate_list});
+  base.add_hint({"R_", "", "the reactions R_<coordinate> may be used only in [" + outputs_key + "]"});
   base.add_hint({"", "_dd", "the accelerations <coordinate>_dd may be used only in [" +
-                                src.prefix + ".outputs]"});
+                                outputs_key + "]"});
   for (std::size_t i : definition_order(src)) {
     const auto& [name, text] = src.definitions[i];
-    base.define(name, base.parse(text));
+    const ex value = out.parse(text);
+    out.define(name, value);
+    if (first_used(value, m.R) >= 0 || first_used(value, m.qdd) >= 0) {
+      base.add_hint({name, "", "the definition '" + name + "' uses reactions or accelerations, "
+                               "so only [" + outputs_key + "] may use it", true});
+    } else {
+      base.define(name, value);
+    }
   }
 
   auto no_velocities = [&](const ex& e, const ExprText& text, const std::string& what) {
@@ -188,12 +208,6 @@ SymbolicModel derive(const ModelSource& src) {
     m.constraints.push_back(std::move(c));
   }
 
-  // Outputs may also use the reactions and the accelerations.
-  ExpressionParser out = base;
-  for (int i = 0; i < n; ++i) {
-    out.define("R_" + src.coordinates[i], m.R[i]);
-    out.define(src.coordinates[i] + "_dd", m.qdd[i]);
-  }
   for (const auto& [name, text] : src.outputs) m.outputs.push_back(out.parse(text));
 
   if (src.period) {
@@ -387,24 +401,30 @@ class TapeBuilder {
       throw std::runtime_error("the unknown symbol " + symbol_name(e));
     }
     if (GiNaC::is_a<GiNaC::add>(e)) {
-      // Σ c_i x_i: positive coefficients first, so that a sum starts without a negation.
+      // Σ ±x_i: the parameter-only terms summed once (in the prelude) and added last; the
+      // state terms with positive sign first, so that a sum starts without a negation.
       std::vector<std::pair<double, std::uint32_t>> terms;
       for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(term(e.op(i)));
-      std::stable_partition(terms.begin(), terms.end(),
-                            [](const auto& t) { return t.first > 0; });
-      std::uint32_t acc = 0;
-      bool have = false;
+      std::stable_partition(terms.begin(), terms.end(), [this](const auto& t) {
+        return !nodes[t.second].state;
+      });
+      auto first_state = std::find_if(terms.begin(), terms.end(),
+                                      [this](const auto& t) { return nodes[t.second].state; });
+      std::stable_partition(first_state, terms.end(), [](const auto& t) { return t.first > 0; });
+      std::uint32_t constant = 0, acc = 0;
+      bool have_constant = false, have = false;
       for (const auto& [c, x] : terms) {
-        const double a = std::abs(c);
-        const std::uint32_t ax = scaled(a, x);
-        if (!have) {
-          acc = c > 0 ? ax : op(Op::neg, ax);
-          have = true;
+        std::uint32_t& sum = nodes[x].state ? acc : constant;
+        bool& present = nodes[x].state ? have : have_constant;
+        if (!present) {
+          sum = c > 0 ? x : op(Op::neg, x);
+          present = true;
         } else {
-          acc = op(c > 0 ? Op::add : Op::sub, acc, ax);
+          sum = op(c > 0 ? Op::add : Op::sub, sum, x);
         }
       }
-      return have ? acc : zero;
+      if (have && have_constant) return op(Op::add, acc, constant);
+      return have ? acc : (have_constant ? constant : zero);
     }
     if (GiNaC::is_a<GiNaC::mul>(e)) {
       const auto [c, x] = term(e);
@@ -422,8 +442,7 @@ class TapeBuilder {
       static const std::map<std::string, Op> unary = {
           {"sin", Op::sin},   {"cos", Op::cos},   {"tan", Op::tan},   {"asin", Op::asin},
           {"acos", Op::acos}, {"atan", Op::atan}, {"sinh", Op::sinh}, {"cosh", Op::cosh},
-          {"tanh", Op::tanh}, {"exp", Op::exp},   {"log", Op::log},   {"abs", Op::abs},
-          {"csgn", Op::sign}};
+          {"tanh", Op::tanh}, {"exp", Op::exp},   {"log", Op::log},   {"abs", Op::abs}};
       auto u = unary.find(name);
       if (u != unary.end() && e.nops() == 1) return op(u->second, arg(0));
       if (name == "atan2" && e.nops() == 2) return op(Op::atan2, arg(0), arg(1));
@@ -435,14 +454,17 @@ class TapeBuilder {
     throw std::runtime_error(std::string("a ") + GiNaC::ex_to<GiNaC::basic>(e).class_name() + " object");
   }
 
-  // A product as (numeric coefficient, node of the rest): factors with negative numeric
-  // exponents form a denominator, divided once.
+  // A product as (sign, node of the magnitude): the numeric coefficient's magnitude and the
+  // parameter-only factors form one constant (computed in the prelude), which multiplies the
+  // state-dependent factors once; factors with negative numeric exponents form denominators.
   std::pair<double, std::uint32_t> term(const ex& e) {
-    if (GiNaC::is_a<GiNaC::numeric>(e)) return {number(e), one};
+    if (GiNaC::is_a<GiNaC::numeric>(e)) {
+      const double v = number(e);
+      return {v < 0 ? -1.0 : 1.0, literal(std::abs(v))};
+    }
     if (!GiNaC::is_a<GiNaC::mul>(e)) return {1.0, compile(e)};
     double c = 1.0;
-    std::uint32_t num = 0, den = 0;
-    bool have_num = false, have_den = false;
+    std::vector<std::uint32_t> knum, kden, snum, sden;
     for (std::size_t i = 0; i < e.nops(); ++i) {
       const ex f = e.op(i);
       if (GiNaC::is_a<GiNaC::numeric>(f)) {
@@ -452,21 +474,44 @@ class TapeBuilder {
       if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
           GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
         const std::uint32_t d = power(f.op(0), -f.op(1));
-        den = have_den ? op(Op::mul, den, d) : d;
-        have_den = true;
+        (nodes[d].state ? sden : kden).push_back(d);
         continue;
       }
       const std::uint32_t x = compile(f);
-      num = have_num ? op(Op::mul, num, x) : x;
-      have_num = true;
+      (nodes[x].state ? snum : knum).push_back(x);
     }
-    std::uint32_t x;
-    if (have_den) {
-      x = have_num ? op(Op::div, num, den) : op(Op::recip, den);
-    } else {
-      x = have_num ? num : one;
+    auto product = [this](const std::vector<std::uint32_t>& f) {
+      std::uint32_t p = f[0];
+      for (std::size_t i = 1; i < f.size(); ++i) p = op(Op::mul, p, f[i]);
+      return p;
+    };
+    auto quotient = [&](const std::vector<std::uint32_t>& num, const std::vector<std::uint32_t>& den,
+                        std::uint32_t& out) {
+      if (num.empty() && den.empty()) return false;
+      if (den.empty()) {
+        out = product(num);
+      } else {
+        out = num.empty() ? op(Op::recip, product(den)) : op(Op::div, product(num), product(den));
+      }
+      return true;
+    };
+    std::uint32_t K = 0, S = 0;
+    bool have_K = quotient(knum, kden, K);
+    const bool have_S = quotient(snum, sden, S);
+    const double magnitude = std::abs(c);
+    if (magnitude != 1.0) {
+      K = have_K ? op(Op::mul, literal(magnitude), K) : literal(magnitude);
+      have_K = true;
     }
-    return {c, x};
+    std::uint32_t x = one;
+    if (have_K && have_S) {
+      x = op(Op::mul, K, S);
+    } else if (have_K) {
+      x = K;
+    } else if (have_S) {
+      x = S;
+    }
+    return {c < 0 ? -1.0 : 1.0, x};
   }
 };
 

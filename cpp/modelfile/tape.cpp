@@ -31,7 +31,6 @@ const char* to_string(Op op) {
     case Op::exp: return "exp";
     case Op::log: return "log";
     case Op::abs: return "abs";
-    case Op::sign: return "sign";
     case Op::step: return "step";
     case Op::min: return "min";
     case Op::max: return "max";
@@ -94,7 +93,6 @@ void run(const Instr* code, std::size_t count, double* v) {
       case Op::exp: y = std::exp(a); break;
       case Op::log: y = std::log(a); break;
       case Op::abs: y = std::abs(a); break;
-      case Op::sign: y = sign(a); break;
       case Op::step: y = step(a); break;
       case Op::min: y = std::fmin(a, v[in->b]); break;
       case Op::max: y = std::fmax(a, v[in->b]); break;
@@ -263,10 +261,6 @@ void run_tangent(const Instr* code, std::size_t count, double* v, double* d, int
         for (int j = 0; j < k; ++j) dy[j] = c * da[j];
         break;
       }
-      case Op::sign:
-        y = sign(a);
-        for (int j = 0; j < k; ++j) dy[j] = 0.0;
-        break;
       case Op::step:
         y = step(a);
         for (int j = 0; j < k; ++j) dy[j] = 0.0;

@@ -28,7 +28,6 @@ enum class Op : std::uint16_t {
   atan2,   ///< atan2(a, b) (a the ordinate)
   sinh, cosh, tanh, exp, log,
   abs,     ///< |a|
-  sign,    ///< -1, 0, 1 (GiNaC's csgn on reals)
   step,    ///< Heaviside: 0 (a < 0), 1/2 (a = 0), 1 (a > 0)
   min,     ///< min(a, b)
   max,     ///< max(a, b)
