@@ -327,6 +327,9 @@ ex ExpressionParser::parse(const ExprText& e) const {
       at_column(number ? number->begin : 0,
                 "syntax error: bad number '" + (number ? number->text : std::string()) + "'");
     }
+    if (reason.compare(0, 13, "expected EOF,") == 0) {
+      reason = "expected an operator or the end of the expression," + reason.substr(13);
+    }
     if (reason.find("got: EOF") != std::string::npos) {
       reason.replace(reason.find("got: EOF"), 8, "got the end of the expression");
       at_column(len, "syntax error: " + reason);

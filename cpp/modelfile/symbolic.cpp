@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -149,8 +150,8 @@ SymbolicModel derive(const ModelSource& src) {
         if (!Mjk.diff(sym(m.qd[l])).expand().is_zero()) {
           fail(src.kinetic.where, src.kinetic.key,
                "the kinetic energy T must be quadratic in the velocities (M = d2T/dqd2 "
-               "independent of them), but d2T/d" + symbol_name(m.qd[j]) + "d" +
-                   symbol_name(m.qd[k]) + " depends on " + symbol_name(m.qd[l]));
+               "independent of them), but d2T/(d" + symbol_name(m.qd[j]) + " d" +
+                   symbol_name(m.qd[k]) + ") depends on " + symbol_name(m.qd[l]));
         }
       }
       m.M[j][k] = m.M[k][j] = Mjk;
@@ -331,6 +332,57 @@ class TapeBuilder {
     }
   }
 
+  // A hash of e's structure that does not depend on GiNaC's symbol serial numbers (which
+  // depend on how many symbols the process made before): GiNaC orders the terms of sums and
+  // the factors of products by its own hashes, so the tape compiles them in the order of this
+  // one instead, and the same file gives the same tape (and bit-identical results) in every
+  // process and on every load.
+  std::uint64_t shash(const ex& e) {
+    auto it = shash_memo_.find(e);
+    if (it != shash_memo_.end()) return it->second;
+    auto mix = [](std::uint64_t h, std::uint64_t v) {
+      return (h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2))) * 0xff51afd7ed558ccdull;
+    };
+    std::uint64_t h = 0;
+    if (GiNaC::is_a<GiNaC::numeric>(e)) {
+      const double v = GiNaC::ex_to<GiNaC::numeric>(e).to_double();
+      std::uint64_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      h = mix(1, bits);
+    } else if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      h = mix(2, std::hash<std::string>()(symbol_name(e)));
+    } else if (GiNaC::is_a<GiNaC::constant>(e)) {
+      h = mix(3, e.is_equal(GiNaC::Pi) ? 1u : 2u);  // only pi is allowed
+    } else {
+      std::vector<std::uint64_t> children;
+      for (std::size_t i = 0; i < e.nops(); ++i) children.push_back(shash(e.op(i)));
+      std::uint64_t tag = 4;
+      if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
+        std::sort(children.begin(), children.end());  // commutative
+        tag = GiNaC::is_a<GiNaC::add>(e) ? 5 : 6;
+      } else if (GiNaC::is_a<GiNaC::power>(e)) {
+        tag = 7;
+      } else if (GiNaC::is_a<GiNaC::function>(e)) {
+        tag = mix(8, std::hash<std::string>()(GiNaC::ex_to<GiNaC::function>(e).get_name()));
+      }
+      h = tag;
+      for (std::uint64_t c : children) h = mix(h, c);
+    }
+    shash_memo_.emplace(e, h);
+    return h;
+  }
+
+  // The operands of a sum or product in the order of shash.
+  std::vector<ex> sorted_operands(const ex& e) {
+    std::vector<std::pair<std::uint64_t, ex>> ops;
+    for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back({shash(e.op(i)), e.op(i)});
+    std::stable_sort(ops.begin(), ops.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<ex> out;
+    for (auto& p : ops) out.push_back(p.second);
+    return out;
+  }
+
   std::uint32_t compile(const ex& e) {
     auto it = memo.find(e);
     if (it != memo.end()) return it->second;
@@ -342,6 +394,7 @@ class TapeBuilder {
  private:
   std::unordered_map<ex, std::uint32_t, ExHash, GiNaC::ex_is_equal> memo;
   std::unordered_map<NodeKey, std::uint32_t, NodeKeyHash> dedupe_;
+  std::unordered_map<ex, std::uint64_t, ExHash, GiNaC::ex_is_equal> shash_memo_;
   std::unordered_map<std::uint64_t, std::uint32_t> literals_;
 
   std::uint32_t add_node(const Node& node) {
@@ -353,13 +406,6 @@ class TapeBuilder {
     const GiNaC::numeric& v = GiNaC::ex_to<GiNaC::numeric>(e);
     if (!v.is_real()) throw std::runtime_error("a complex number");
     return v.to_double();
-  }
-
-  // c * x for a numeric c (signs folded into neg).
-  std::uint32_t scaled(double c, std::uint32_t x) {
-    if (c == 1.0) return x;
-    if (c == -1.0) return op(Op::neg, x);
-    return op(Op::mul, literal(c), x);
   }
 
   // base^k for an integer k >= 1.
@@ -401,35 +447,11 @@ class TapeBuilder {
       throw std::runtime_error("the unknown symbol " + symbol_name(e));
     }
     if (GiNaC::is_a<GiNaC::add>(e)) {
-      // Σ ±x_i: the parameter-only terms summed once (in the prelude) and added last; the
-      // state terms with positive sign first, so that a sum starts without a negation.
-      std::vector<std::pair<double, std::uint32_t>> terms;
-      for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(term(e.op(i)));
-      std::stable_partition(terms.begin(), terms.end(), [this](const auto& t) {
-        return !nodes[t.second].state;
-      });
-      auto first_state = std::find_if(terms.begin(), terms.end(),
-                                      [this](const auto& t) { return nodes[t.second].state; });
-      std::stable_partition(first_state, terms.end(), [](const auto& t) { return t.first > 0; });
-      std::uint32_t constant = 0, acc = 0;
-      bool have_constant = false, have = false;
-      for (const auto& [c, x] : terms) {
-        std::uint32_t& sum = nodes[x].state ? acc : constant;
-        bool& present = nodes[x].state ? have : have_constant;
-        if (!present) {
-          sum = c > 0 ? x : op(Op::neg, x);
-          present = true;
-        } else {
-          sum = op(c > 0 ? Op::add : Op::sub, sum, x);
-        }
-      }
-      if (have && have_constant) return op(Op::add, acc, constant);
-      return have ? acc : (have_constant ? constant : zero);
+      std::vector<Monomial> terms;
+      for (const ex& op : sorted_operands(e)) terms.push_back(monomial(op));
+      return finish(sum(std::move(terms)));
     }
-    if (GiNaC::is_a<GiNaC::mul>(e)) {
-      const auto [c, x] = term(e);
-      return scaled(c, x);
-    }
+    if (GiNaC::is_a<GiNaC::mul>(e)) return finish(sum({monomial(e)}));
     if (GiNaC::is_a<GiNaC::power>(e)) return power(e.op(0), e.op(1));
     if (GiNaC::is_a<GiNaC::function>(e)) {
       const GiNaC::function& f = GiNaC::ex_to<GiNaC::function>(e);
@@ -454,64 +476,177 @@ class TapeBuilder {
     throw std::runtime_error(std::string("a ") + GiNaC::ex_to<GiNaC::basic>(e).class_name() + " object");
   }
 
-  // A product as (sign, node of the magnitude): the numeric coefficient's magnitude and the
-  // parameter-only factors form one constant (computed in the prelude), which multiplies the
-  // state-dependent factors once; factors with negative numeric exponents form denominators.
-  std::pair<double, std::uint32_t> term(const ex& e) {
-    if (GiNaC::is_a<GiNaC::numeric>(e)) {
-      const double v = number(e);
-      return {v < 0 ? -1.0 : 1.0, literal(std::abs(v))};
-    }
-    if (!GiNaC::is_a<GiNaC::mul>(e)) return {1.0, compile(e)};
+  // A term of a sum: sign * K * Π base^exponent, K the parameter-only factors (one constant,
+  // computed in the prelude) and the bases state-dependent nodes (negative exponents divide).
+  struct Monomial {
+    bool negative = false;
+    std::uint32_t K = 0;
+    bool have_K = false;
+    std::map<std::uint32_t, int> state;  // base node -> exponent (by node id: deterministic)
+  };
+  // A node with a sign still to apply (so sums use sub instead of neg + add).
+  struct Signed {
+    bool negative;
+    std::uint32_t node;
+  };
+
+  Monomial monomial(const ex& e) {
+    Monomial m;
     double c = 1.0;
-    std::vector<std::uint32_t> knum, kden, snum, sden;
-    for (std::size_t i = 0; i < e.nops(); ++i) {
-      const ex f = e.op(i);
+    std::vector<std::uint32_t> knum, kden;
+    auto factor = [&](const ex& f) {
       if (GiNaC::is_a<GiNaC::numeric>(f)) {
         c *= number(f);
-        continue;
+        return;
       }
-      if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
-          GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
-        const std::uint32_t d = power(f.op(0), -f.op(1));
-        (nodes[d].state ? sden : kden).push_back(d);
-        continue;
+      if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1))) {
+        const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(f.op(1));
+        if (k.is_integer() && GiNaC::abs(k) < 1000) {
+          const std::uint32_t base = compile(f.op(0));
+          const int ki = static_cast<int>(k.to_long());
+          if (nodes[base].state) {
+            m.state[base] += ki;
+          } else {
+            (ki > 0 ? knum : kden).push_back(int_power(base, std::abs(ki)));
+          }
+          return;
+        }
+        if (k.is_negative()) {  // x^(-1/2) and the like: a denominator
+          const std::uint32_t d = power(f.op(0), -f.op(1));
+          if (nodes[d].state) {
+            m.state[d] -= 1;
+          } else {
+            kden.push_back(d);
+          }
+          return;
+        }
       }
       const std::uint32_t x = compile(f);
-      (nodes[x].state ? snum : knum).push_back(x);
-    }
-    auto product = [this](const std::vector<std::uint32_t>& f) {
-      std::uint32_t p = f[0];
-      for (std::size_t i = 1; i < f.size(); ++i) p = op(Op::mul, p, f[i]);
-      return p;
-    };
-    auto quotient = [&](const std::vector<std::uint32_t>& num, const std::vector<std::uint32_t>& den,
-                        std::uint32_t& out) {
-      if (num.empty() && den.empty()) return false;
-      if (den.empty()) {
-        out = product(num);
+      if (nodes[x].state) {
+        m.state[x] += 1;
       } else {
-        out = num.empty() ? op(Op::recip, product(den)) : op(Op::div, product(num), product(den));
+        knum.push_back(x);
       }
-      return true;
     };
-    std::uint32_t K = 0, S = 0;
-    bool have_K = quotient(knum, kden, K);
-    const bool have_S = quotient(snum, sden, S);
+    if (GiNaC::is_a<GiNaC::mul>(e)) {
+      for (const ex& f : sorted_operands(e)) factor(f);
+    } else {
+      factor(e);
+    }
+    for (auto it = m.state.begin(); it != m.state.end();) {
+      it = it->second == 0 ? m.state.erase(it) : std::next(it);
+    }
+    m.negative = c < 0;
     const double magnitude = std::abs(c);
+    std::uint32_t K = 0;
+    bool have = quotient(knum, kden, K);
     if (magnitude != 1.0) {
-      K = have_K ? op(Op::mul, literal(magnitude), K) : literal(magnitude);
-      have_K = true;
+      K = have ? op(Op::mul, literal(magnitude), K) : literal(magnitude);
+      have = true;
     }
-    std::uint32_t x = one;
-    if (have_K && have_S) {
-      x = op(Op::mul, K, S);
-    } else if (have_K) {
-      x = K;
-    } else if (have_S) {
-      x = S;
+    if (!have && m.state.empty()) {
+      K = one;
+      have = true;
     }
-    return {c < 0 ? -1.0 : 1.0, x};
+    m.K = K;
+    m.have_K = have;
+    return m;
+  }
+
+  std::uint32_t product(const std::vector<std::uint32_t>& f) {
+    std::uint32_t p = f[0];
+    for (std::size_t i = 1; i < f.size(); ++i) p = op(Op::mul, p, f[i]);
+    return p;
+  }
+  bool quotient(const std::vector<std::uint32_t>& num, const std::vector<std::uint32_t>& den,
+                std::uint32_t& out) {
+    if (num.empty() && den.empty()) return false;
+    if (den.empty()) {
+      out = product(num);
+    } else {
+      out = num.empty() ? op(Op::recip, product(den)) : op(Op::div, product(num), product(den));
+    }
+    return true;
+  }
+
+  // One monomial as a node: K * (Π positive powers) / (Π negative powers).
+  Signed single(const Monomial& m) {
+    std::vector<std::uint32_t> num, den;
+    for (const auto& [base, k] : m.state) (k > 0 ? num : den).push_back(int_power(base, std::abs(k)));
+    std::uint32_t S = 0;
+    const bool have_S = quotient(num, den, S);
+    if (m.have_K && have_S) return {m.negative, op(Op::mul, m.K, S)};
+    return {m.negative, have_S ? S : m.K};
+  }
+
+  Signed add_signed(Signed a, Signed b) {
+    if (a.negative == b.negative) return {a.negative, op(Op::add, a.node, b.node)};
+    return a.negative ? Signed{false, op(Op::sub, b.node, a.node)}
+                      : Signed{false, op(Op::sub, a.node, b.node)};
+  }
+
+  // A sum of monomials, factored greedily (multivariate Horner): the state base that occurs
+  // in most terms is taken out, b * (Σ those terms / b) + Σ the others, recursively; terms
+  // without state factors add up to one prelude constant. Expanded expressions (whose form
+  // does not depend on GiNaC's internal order) get back most of their factored form this way.
+  Signed sum(std::vector<Monomial> terms) {
+    if (terms.empty()) return {false, zero};
+    std::map<std::uint32_t, int> count;
+    for (const Monomial& m : terms) {
+      for (const auto& [base, k] : m.state) {
+        if (k > 0) ++count[base];
+      }
+    }
+    std::uint32_t best = 0;
+    int best_count = 1;
+    for (const auto& [base, n] : count) {
+      if (n > best_count) {
+        best = base;
+        best_count = n;
+      }
+    }
+    if (best_count >= 2) {
+      std::vector<Monomial> with, rest;
+      for (Monomial& m : terms) {
+        auto it = m.state.find(best);
+        if (it != m.state.end() && it->second > 0) {
+          if (--it->second == 0) m.state.erase(it);
+          if (!m.have_K && m.state.empty()) {
+            m.K = one;
+            m.have_K = true;
+          }
+          with.push_back(std::move(m));
+        } else {
+          rest.push_back(std::move(m));
+        }
+      }
+      const Signed inner = sum(std::move(with));
+      const Signed factored{inner.negative, op(Op::mul, best, inner.node)};
+      if (rest.empty()) return factored;
+      return add_signed(factored, sum(std::move(rest)));
+    }
+    // No shared factor: constant terms first (they fold into one prelude constant), then the
+    // state terms, positive ones first.
+    std::vector<Signed> parts;
+    for (const Monomial& m : terms) parts.push_back(single(m));
+    std::stable_sort(parts.begin(), parts.end(), [this](const Signed& a, const Signed& b) {
+      const int ra = nodes[a.node].state ? (a.negative ? 2 : 1) : 0;
+      const int rb = nodes[b.node].state ? (b.negative ? 2 : 1) : 0;
+      return ra < rb;
+    });
+    Signed acc = parts[0];
+    for (std::size_t i = 1; i < parts.size(); ++i) acc = add_signed(acc, parts[i]);
+    return acc;
+  }
+
+  // Applies the sign; −(K * S) with a constant K becomes (−K) * S (the negation in the prelude).
+  std::uint32_t finish(Signed s) {
+    if (!s.negative) return s.node;
+    const Node& n = nodes[s.node];
+    if (n.kind == Kind::instr && n.op == Op::mul && !nodes[n.a].state) {
+      return op(Op::mul, op(Op::neg, n.a), n.b);
+    }
+    return op(Op::neg, s.node);
   }
 };
 
@@ -532,7 +667,7 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
   TapeBuilder b(m);
   auto compile = [&](const ex& e, const ExprText& where) {
     try {
-      return b.compile(e);
+      return b.compile(e.expand());
     } catch (const std::runtime_error& err) {
       fail(where.where, where.key, std::string("cannot evaluate ") + err.what() +
                                        " (from \"" + where.text + "\")");

@@ -56,7 +56,7 @@ holonomic = "c - b*a"
 from_initial = true
 [model.outputs]
 power = "R_a*a_d + R_b*b_d + R_c*c_d"
-accel = "a_dd^2 + min(b_dd, c_dd) + abs(R_c)"
+accel = "a_dd^2 + min(b_dd, c_dd) + abs(R_c) + b_d^7"
 )TOML";
 
 struct Symbolic {
