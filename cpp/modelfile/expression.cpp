@@ -241,6 +241,46 @@ void check_leaves(const ex& e, const ExprText& where) {
   for (std::size_t i = 0; i < e.nops(); ++i) check_leaves(e.op(i), where);
 }
 
+// The text with each number token replaced by an exact rational in parentheses: mantissa
+// digits over a power of ten ("12.5e-3" -> "(125/10000)").
+// Returns "" if a number lies beyond double's range (|exponent| > 400 after the mantissa).
+std::string exact_numbers(const std::string& text, const std::vector<Token>& tokens) {
+  std::string out;
+  std::size_t pos = 0;
+  for (const Token& tk : tokens) {
+    if (tk.kind != Token::number) continue;
+    const std::string& t = tk.text;
+    const std::size_t epos = t.find_first_of("eE");
+    const std::string mant = t.substr(0, epos);
+    const std::string etext = epos == std::string::npos ? "" : t.substr(epos + 1);
+    if (etext.size() > 6) return "";
+    long exponent = etext.empty() || etext == "+" || etext == "-" ? 0 : std::stol(etext);
+    std::string digits;
+    const std::size_t dot = mant.find('.');
+    for (char ch : mant) {
+      if (ch != '.') digits += ch;
+    }
+    if (dot != std::string::npos) exponent -= static_cast<long>(mant.size() - dot - 1);
+    const std::size_t nz = digits.find_first_not_of('0');
+    digits = nz == std::string::npos ? "0" : digits.substr(nz);
+    if (digits != "0" && (exponent > 400 || exponent < -400 - static_cast<long>(digits.size()))) {
+      return "";
+    }
+    std::string rational;
+    if (digits == "0") {
+      rational = "0";
+    } else if (exponent >= 0) {
+      rational = digits + std::string(static_cast<std::size_t>(exponent), '0');
+    } else {
+      rational = digits + "/1" + std::string(static_cast<std::size_t>(-exponent), '0');
+    }
+    out += text.substr(pos, tk.begin - pos) + "(" + rational + ")";
+    pos = tk.end;
+  }
+  out += text.substr(pos);
+  return out;
+}
+
 }  // namespace
 
 ex ExpressionParser::parse(const ExprText& e) const {
@@ -335,6 +375,18 @@ ex ExpressionParser::parse(const ExprText& e) const {
       at_column(len, "syntax error: " + reason);
     }
     at_column(last ? last->begin : 0, "syntax error: " + reason);
+  }
+  // Parse again with every number written as an exact rational ("0.1" as 1/10): GiNaC would
+  // keep "0.1" as a 17-digit float, and float coefficients combined in GiNaC's (address-
+  // dependent) term order could round differently from run to run; exact ones cannot.
+  const std::string exact = exact_numbers(e.text, tokens);
+  if (exact.empty()) {
+    fail(e.where, e.key, "a number in \"" + e.text + "\" is out of the range of double");
+  }
+  if (exact != e.text) {
+    std::istringstream in2(exact);
+    GiNaC::parser reader(table_, /*strict=*/true, reader_table());
+    result = reader(in2);
   }
   check_leaves(result, e);
   return result;

@@ -117,6 +117,10 @@ BOOST_AUTO_TEST_CASE(unknown_names_and_functions_are_named_with_their_column) {
   // A number beyond double.
   expect_rejected(replaced("\"m*9.81*y\"", "\"1e400*y\""), "model.energy.potential",
                   {"out of the range of double"});
+  expect_rejected(replaced("\"m*9.81*y\"", "\"1e9999999999*y\""), "model.energy.potential",
+                  {"out of the range of double"});
+  expect_rejected(replaced("\"m*9.81*y\"", "\"0.5e-500*y\""), "model.energy.potential",
+                  {"out of the range of double"});
   // Velocities of coordinates that do not exist.
   expect_rejected(replaced("\"0.5*m*(x_d^2 + y_d^2)\"", "\"0.5*m*(x_d^2 + z_d^2)\""),
                   "model.energy.kinetic", {"unknown name 'z_d'", "column 16"});
