@@ -69,7 +69,7 @@ BOOST_AUTO_TEST_CASE(chain_of_30_links_conserves_energy) {
   mech::SimulationOptions o;
   o.t_end = 0.02;
   o.rtol = o.atol = 1e-8;
-  o.kernel = Kernel::cpp;
+  o.kernel = Kernel::fortran;  // in Debug builds 4x faster than the sanitized C++ Huang port
   o.active_constraints = desc->default_active_constraints();
   double e0 = NAN, drift = 0.0;
   const mech::SimulationResult r = mech::simulate(*model, q, qd, o, [&](const mech::StepView& v) {
