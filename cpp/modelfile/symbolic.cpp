@@ -332,11 +332,13 @@ class TapeBuilder {
     }
   }
 
-  // A hash of e's structure that does not depend on GiNaC's symbol serial numbers (which
-  // depend on how many symbols the process made before): GiNaC orders the terms of sums and
-  // the factors of products by its own hashes, so the tape compiles them in the order of this
-  // one instead, and the same file gives the same tape (and bit-identical results) in every
-  // process and on every load.
+  // A hash of e's structure made of names and numbers only. GiNaC orders the terms of sums and
+  // the factors of products by hashes seeded with symbol serial numbers (which depend on how
+  // many symbols the process made before) and type-name addresses (which change with address
+  // space randomization), so its order, and the shape of unexpanded expressions, differ from
+  // process to process. The tape compiles expanded expressions (a canonical form) in the order
+  // of this hash instead: the same file gives the same tape, and bit-identical results, in
+  // every process and on every load.
   std::uint64_t shash(const ex& e) {
     auto it = shash_memo_.find(e);
     if (it != shash_memo_.end()) return it->second;
