@@ -1,12 +1,12 @@
 # Component sieve: the vibration-sieve model, case files, run/summary/plot logic.
 # It needs the mechanics engine; until pcsim_mech exists it is skipped (so pcsim still links).
-if(NOT TARGET pcsim_mech)
-  message(STATUS "pcsim: component sieve needs pcsim_mech; skipped")
+if(NOT TARGET pcsim_sim)
+  message(STATUS "pcsim: component sieve needs pcsim_sim; skipped")
   return()
 endif()
 pcsim_component(NAME sieve
   CXX   cpp/sieve/*.cpp
-  LINKS pcsim_mech tomlplusplus::tomlplusplus nlohmann_json::nlohmann_json)
+  LINKS pcsim_sim)
 pcsim_boost_tests(DIR tests/sieve LINKS pcsim_sieve)
 pcsim_benchmarks(PREFIX bench_sieve LINKS pcsim_sieve)
 

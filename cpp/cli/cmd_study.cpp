@@ -8,7 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "common/error.hpp"
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
 #include "study/cluster.hpp"
 #include "study/incline.hpp"
 #include "study/progress.hpp"
@@ -26,9 +26,9 @@ struct InclineArgs {
 };
 
 void run_incline(const InclineArgs& a) {
-  std::vector<pcsim::sieve::Override> overrides;
-  for (const auto& s : a.set) overrides.push_back(pcsim::sieve::parse_override(s));
-  const pcsim::sieve::Case base = pcsim::sieve::load_case(a.case_file, overrides);
+  std::vector<pcsim::sim::Override> overrides;
+  for (const auto& s : a.set) overrides.push_back(pcsim::sim::parse_override(s));
+  const pcsim::sim::Case base = pcsim::sim::load_case(a.case_file, overrides);
   std::vector<pcsim::study::Axis> axes;
   if (a.vary.empty()) {
     axes.push_back(pcsim::study::default_incline_axis(base));

@@ -7,7 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "common/error.hpp"
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
 #include "study/cluster.hpp"
 #include "study/progress.hpp"
 #include "study/sweep.hpp"
@@ -24,9 +24,9 @@ struct SweepArgs {
 };
 
 void run(const SweepArgs& a) {
-  std::vector<pcsim::sieve::Override> overrides;
-  for (const auto& s : a.set) overrides.push_back(pcsim::sieve::parse_override(s));
-  const pcsim::sieve::Case base = pcsim::sieve::load_case(a.case_file, overrides);
+  std::vector<pcsim::sim::Override> overrides;
+  for (const auto& s : a.set) overrides.push_back(pcsim::sim::parse_override(s));
+  const pcsim::sim::Case base = pcsim::sim::load_case(a.case_file, overrides);
   // Every specification is checked before MPI starts and before any point runs.
   const pcsim::study::Grid grid = pcsim::study::make_grid(a.vary, base);
 

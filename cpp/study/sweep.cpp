@@ -20,7 +20,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "sieve/run.hpp"
+#include "sim/run.hpp"
 #include "study/progress.hpp"
 #include "study/table.hpp"
 
@@ -101,7 +101,7 @@ class Journal {
       index_of.reserve(grid.size());
       const std::size_t naxes = grid.axes().size();
       for (std::size_t i = 0; i < grid.size(); ++i) index_of.emplace(csv_line(grid.texts(i)), i);
-      const std::size_t ncols = naxes + summary_columns().size() + 2;
+      const std::size_t ncols = parse_csv_line(header_line)->size();
       for (std::size_t start = pos + 1; start < old.size();) {
         const std::size_t end = old.find('\n', start);
         if (end == std::string::npos) {  // torn last line: the point was in flight
@@ -200,55 +200,52 @@ std::vector<std::size_t> split_numbers(const std::string& s) {
   return v;
 }
 
-double friction_of(const sieve::Case& c) {
-  if (auto f = c.table.at_path("parameters.f").value<double>()) return *f;
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
 }  // namespace
 
 Runner case_runner() {
-  return [](const sieve::Case& c) { return sieve::run_case(c, sieve::RunOptions{}); };
+  return [](const sim::Case& c) { return sim::run_case(c, sim::RunOptions{}); };
 }
 
-std::vector<std::string> sweep_header(const Grid& grid) {
+std::vector<std::string> sweep_header(const sim::Case& base, const Grid& grid) {
   std::vector<std::string> h;
   for (const auto& a : grid.axes()) h.push_back(a.key);
-  for (const auto& c : summary_columns()) h.push_back(c);
+  for (const auto& c : summary_columns(base)) h.push_back(c);
   h.push_back(kStatusColumn);
   h.push_back(kErrorColumn);
   return h;
 }
 
-std::vector<std::string> sweep_row(const sieve::Case& base, const Grid& grid, std::size_t i,
+std::vector<std::string> sweep_row(const sim::Case& base, const Grid& grid, std::size_t i,
                                    const Runner& runner) {
   std::vector<std::string> row = grid.texts(i);
   std::vector<std::string> fields;
   std::string error;
+  const std::vector<std::string> columns = summary_columns(base);
   try {
-    const sieve::Case c = grid.point_case(base, i);
-    fields = flatten_summary(runner(c), friction_of(c));
+    const sim::Case c = grid.point_case(base, i);
+    fields = flatten_summary(runner(c), c, columns);
   } catch (const std::exception& e) {
     error = e.what();
     if (error.empty()) error = "unknown error";
   } catch (...) {
     error = "unknown error";
   }
-  if (!error.empty()) fields.assign(summary_columns().size(), "");
+  if (!error.empty()) fields.assign(columns.size(), "");
   row.insert(row.end(), fields.begin(), fields.end());
   row.push_back(error.empty() ? "ok" : "error");
   row.push_back(error);
   return row;
 }
 
-SweepReport run_sweep(const sieve::Case& base, const Grid& grid, const Runner& runner,
+SweepReport run_sweep(const sim::Case& base, const Grid& grid, const Runner& runner,
                       const SweepOptions& options) {
   const int rank = options.cluster ? options.cluster->rank() : 0;
   const int size = options.cluster ? options.cluster->size() : 1;
   SweepReport report;
   report.csv = options.out_dir / "sweep.csv";
   report.points = grid.size();
-  const std::string header_line = csv_line(sweep_header(grid));
+  const std::string header_line = csv_line(sweep_header(base, grid));
+  const std::size_t n_summary = summary_columns(base).size();
 
   // Rank 0 reads the earlier file and decides what is pending; the others are told.
   Journal journal;
@@ -316,7 +313,7 @@ SweepReport run_sweep(const sieve::Case& base, const Grid& grid, const Runner& r
   if (rank == 0) {
     std::string err = journal.finish(header_line, lines, foreign);
     if (io_error.empty()) io_error = err;
-    const std::size_t status_col = grid.axes().size() + summary_columns().size();
+    const std::size_t status_col = grid.axes().size() + n_summary;
     for (const auto& l : lines)
       if (l) {
         const auto f = parse_csv_line(*l);

@@ -11,11 +11,13 @@
 #include <unistd.h>
 
 #include "common/error.hpp"
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
+#include "register.hpp"
 #include "sieve/settings.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;
+using namespace pcsim::sim;
 namespace fs = std::filesystem;
 
 namespace {
@@ -123,7 +125,8 @@ BOOST_AUTO_TEST_CASE(invalid_cases_are_rejected_naming_file_key_and_expectation)
       {"[solver]\nt_end = -1.0\n", "solver.t_end", "a positive number"},
       {"[solver]\nkernel = \"julia\"\n", "solver.kernel", "\"fortran\" or \"cpp\""},
       {"[solver]\nform = \"index3\"\n", "solver.form", "\"ode\" or \"dae\""},
-      {"model = \"pendulum\"\n", "model", "\"sieve\""},
+      {"model = \"pendulm\"\n", "model", "a built-in model (pendulum, rolling_disk, sieve, slider_crank)"},
+      {"model = \"no/such/model.toml\"\n", "model", "a model file"},
       {"[output]\nsummary_periods = 2.5\n", "output.summary_periods", "an integer"},
       {"[initial]\nu = 0.2\n", "initial.u", "parameters.u0"},
       {"[constraints]\nlock_theta = true\n[initial]\ntheta = 0.01\n", "initial.theta", "0"},
@@ -148,7 +151,7 @@ BOOST_AUTO_TEST_CASE(bad_overrides_are_rejected_naming_file_key_and_expectation)
   BOOST_TEST(contains(msg, "expected a number"));
   msg = load_error(kCase, {{"parameters.nonsense", "1"}});
   BOOST_TEST(contains(msg, "'parameters.nonsense'"));
-  BOOST_TEST(contains(msg, "expected a key of the sieve case format"));
+  BOOST_TEST(contains(msg, "expected a key of the case format for the built-in model 'sieve'"));
   msg = load_error(kCase, {{"constraints.contact", "yes"}});
   BOOST_TEST(contains(msg, "expected true or false"));
   msg = load_error(kCase, {{"solver.rtol", "-1e-6"}});
@@ -170,12 +173,15 @@ BOOST_AUTO_TEST_CASE(malformed_toml_is_reported_with_file_and_line) {
 }
 
 BOOST_AUTO_TEST_CASE(numeric_keys_are_identified) {
-  BOOST_TEST(is_numeric_key("parameters.omega"));
-  BOOST_TEST(is_numeric_key("initial.s0"));
-  BOOST_TEST(is_numeric_key("output.summary_periods"));
-  BOOST_TEST(!is_numeric_key("constraints.contact"));
-  BOOST_TEST(!is_numeric_key("solver.kernel"));
-  BOOST_TEST(!is_numeric_key("parameters.nonsense"));
+  const Case c = load_case(kCase);
+  BOOST_TEST(is_numeric_key(c, "parameters.omega"));
+  BOOST_TEST(is_numeric_key(c, "initial.s0"));
+  BOOST_TEST(is_numeric_key(c, "output.summary_periods"));
+  BOOST_TEST(is_integer_key(c, "output.summary_periods"));
+  BOOST_TEST(!is_integer_key(c, "parameters.omega"));
+  BOOST_TEST(!is_numeric_key(c, "constraints.contact"));
+  BOOST_TEST(!is_numeric_key(c, "solver.kernel"));
+  BOOST_TEST(!is_numeric_key(c, "parameters.nonsense"));
 }
 
 // to_toml writes a file load_case reads back to an equal case: same name, same table (every
