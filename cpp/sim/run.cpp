@@ -305,7 +305,11 @@ std::string human_report(const Case& c, const nlohmann::json& s) {
                 s["window"][1].get<double>(), s["window_clipped"].get<bool>() ? " (clipped to the run)" : "");
   os << buf;
   os << "  over the window:         min           max     amplitude\n";
-  for (const auto& [name, e] : s["extremes"].items()) {
+  const auto cols = timeseries_columns(c);
+  for (std::size_t k = 1; k + 2 < cols.size(); ++k) {
+    const std::string& name = cols[k];
+    if (!s["extremes"].contains(name)) continue;
+    const auto& e = s["extremes"][name];
     auto num = [](const nlohmann::json& v) {
       return v.is_null() ? std::string("n/a") : format_significant(v.get<double>(), 6);
     };
