@@ -51,14 +51,29 @@ class SieveMonitor final : public sim::ClientMonitor {
     rolling_.active = set_.constraints.contact && set_.constraints.rolling;
   }
 
-  void observe(const mech::StepView& v) override {
+  bool observe(const mech::StepView& v) override {
     if (v.t == v.t_prev) {  // the consistent initial state
       const mech::Sample s0 = v.at(v.t);
       whole_run(v, s0, s0.t);
       ru_prev_ = s0.R(4);
       ru_scale_ = std::abs(s0.R(4));
       fstar_prev_ = s0.derived(0);
-      return;
+      return true;
+    }
+    // The roller's contact point must stay on the deck, xi in [-a, a] (docs/sieve.md): beyond
+    // it the model (a roller on an endless plane) no longer describes the machine.
+    const double deck = std::abs(set_.p.a);
+    auto off_deck = [deck](const mech::Sample& x) { return std::abs(x.q(3)) > deck; };
+    if (off_deck(v.at(v.t))) {
+      double lo = v.t_prev, hi = v.t;
+      for (int it = 0; it < 60 && hi - lo > 1e-13 * std::max(1.0, std::abs(hi)); ++it) {
+        const double m = 0.5 * (lo + hi);
+        if (off_deck(v.at(m))) hi = m; else lo = m;
+      }
+      stop_t_ = hi;
+      stop_reason_ = "the roller left the deck at t = " + format_significant(hi, 9) +
+                     " s (|s| > a = " + format_significant(deck, 6) + " m)";
+      return false;
     }
     // Whole run: the step's end, and its midpoint too when an end is near a violation (R_u
     // below a quarter of its largest value so far, or f* above 3/4 of f): a smooth signal
@@ -77,7 +92,11 @@ class SieveMonitor final : public sim::ClientMonitor {
     ru_prev_ = end.R(4);
     fstar_prev_ = end.derived(0);
     if (v.t > w0_) window(v);
+    return true;
   }
+
+  double stop_time() const override { return stop_t_; }
+  std::string stop_reason() const override { return stop_reason_; }
 
   void finish(const mech::SimulationResult& res, const std::map<std::string, sim::ColumnExtremes>&,
               nlohmann::json& j) override {
@@ -213,6 +232,8 @@ class SieveMonitor final : public sim::ClientMonitor {
   double residual_max_ = 0.0;
   Verdict contact_, rolling_;
   double ru_prev_ = 0, ru_scale_ = 0, fstar_prev_ = 0;  // at the previous step end
+  double stop_t_ = 0.0;
+  std::string stop_reason_;
 };
 
 class SieveClient final : public sim::Client {
@@ -273,6 +294,23 @@ class SieveClient final : public sim::Client {
         fail("initial.s_d", "-r * initial.phi_d (constraints.rolling = true imposes s' = -r phi')", got);
       }
     }
+    // The geometry: the roller (radius r) on the deck xi in [-a, a] (the desk's outermost
+    // attachment, the horizontal spring at xi = a, bounds it), its centre r above the deck
+    // surface, and that surface not below the desk's mass centre (u0 - r >= 0).
+    const double a = std::abs(*t["parameters"]["a"].value<double>());
+    if (!(r < a))
+      fail("parameters.r", "a roller radius below the deck's half-length |a| = " +
+                               format_significant(a, 6) + " m (the roller must fit on the deck)",
+           t["parameters"].as_table()->get("r"));
+    if (!(std::abs(initial("s", s0)) <= a))
+      fail(ini.contains("s") ? "initial.s" : "initial.s0",
+           "a roller position on the deck, |s| <= |a| = " + format_significant(a, 6) + " m",
+           ini.get(ini.contains("s") ? "s" : "s0"));
+    if (!(u0 - r >= 0))
+      fail("parameters.u0", "u0 >= r = " + format_significant(r, 6) +
+                                " m (u0 is the roller centre's height over the desk's mass "
+                                "centre: the deck surface u0 - r is not below it)",
+           t["parameters"].as_table()->get("u0"));
     if (*con["lock_theta"].value<bool>()) {
       if (!near(initial("theta", 0), 0))
         fail("initial.theta", "0 (constraints.lock_theta = true imposes theta = 0)", ini.get("theta"));

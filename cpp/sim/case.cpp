@@ -2,7 +2,9 @@
 // constraints, the client's extras), --set overrides, defaults, validation, setup_of, to_toml.
 #include "sim/case.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -89,6 +91,10 @@ KeySpec number_key(std::string section, std::string name, std::string meaning,
 /// The largest integer a case may give for a count (summary periods): larger values are
 /// refused instead of wrapping around in an int.
 constexpr double kMaxCount = 1e6;
+/// The smallest relative tolerance a case may ask for (README, "Limits and failure behaviour").
+constexpr double kMinRtol = 1e-13;
+/// The shortest run a case may ask for, s.
+constexpr double kMinTEnd = 1e-9;
 
 bool model_has_period(const ModelSource& m) {
   ParameterValues p;
@@ -139,9 +145,15 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   form.choices = {"ode", "dae"};
   form.string_default = "ode";
   keys.push_back(form);
-  keys.push_back(number_key("solver", "rtol", "relative tolerance", 1e-6, 0.0, true));
+  keys.push_back(number_key("solver", "rtol",
+                            "relative tolerance; below 1e-13 the error estimates are dominated "
+                            "by the rounding of double precision",
+                            1e-6, kMinRtol, false));
   keys.push_back(number_key("solver", "atol", "absolute tolerance", 1e-8, 0.0, true));
-  keys.push_back(number_key("solver", "t_end", "end time, s", 10.0, 0.0, true));
+  keys.push_back(number_key("solver", "t_end",
+                            "end time, s; at least 1e-9 s, so the run and its summary window are "
+                            "more than a rounding error long",
+                            10.0, kMinTEnd, false));
   keys.push_back(number_key("solver", "h0", "initial step, s (0: automatic)", 0.0, 0.0, false));
   keys.push_back(number_key("output", "dt", "output interval, s", 1e-3, 0.0, true));
   if (model_has_period(m)) {
@@ -461,6 +473,88 @@ Case finish_case(const fs::path& file, toml::table t, const std::vector<Override
 
 }  // namespace
 
+void check_toml_nesting(const std::string& text, const fs::path& file) {
+  // A scanner of TOML's structure, not a parser: it follows strings and comments, counts the
+  // parts of each dotted key (in headers and before '=') and the nesting of arrays and inline
+  // tables, and stops at the first excess, before the recursive parser ever sees the text.
+  enum class Str { none, basic, literal, ml_basic, ml_literal };
+  Str str = Str::none;
+  std::vector<char> stack;        // open '[' / '{' of values (and of a header line)
+  bool key_ctx = true, header = false, comment = false;
+  int parts = 1, line = 1;
+  std::string key_start;          // the first characters of the current key, for the message
+  auto refuse = [&](const std::string& what) {
+    throw InputError(where(file) + ":" + std::to_string(line) + ": key '" + key_start +
+                     "...': expected at most " +
+                     std::to_string(kMaxNesting) + " levels of nesting (a case needs at most 3), got " +
+                     what);
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') ++line;
+    if (comment) {
+      if (c == '\n') comment = false; else continue;
+    }
+    switch (str) {
+      case Str::basic:
+        if (c == '\\') ++i;
+        else if (c == '"' || c == '\n') str = Str::none;
+        continue;
+      case Str::literal:
+        if (c == '\'' || c == '\n') str = Str::none;
+        continue;
+      case Str::ml_basic:
+        if (c == '\\') ++i;
+        else if (text.compare(i, 3, "\"\"\"") == 0) { str = Str::none; i += 2; }
+        continue;
+      case Str::ml_literal:
+        if (text.compare(i, 3, "'''") == 0) { str = Str::none; i += 2; }
+        continue;
+      case Str::none: break;
+    }
+    if (key_ctx && key_start.size() < 40 && c != ' ' && c != '\t' && c != '\n' && c != '[')
+      key_start += c;
+    switch (c) {
+      case '#': comment = true; break;
+      case '"':
+        str = text.compare(i, 3, "\"\"\"") == 0 ? (i += 2, Str::ml_basic) : Str::basic;
+        break;
+      case '\'':
+        str = text.compare(i, 3, "'''") == 0 ? (i += 2, Str::ml_literal) : Str::literal;
+        break;
+      case '.':
+        if (key_ctx && ++parts > kMaxNesting) refuse(std::to_string(parts) + "+ dotted parts");
+        break;
+      case '=':
+        key_ctx = false;
+        break;
+      case '[': case '{':
+        if (stack.empty() && key_ctx && c == '[') {
+          header = true;  // a table header: its dotted parts are counted like a key's
+          break;
+        }
+        stack.push_back(c);
+        if (static_cast<int>(stack.size()) > kMaxNesting)
+          refuse(std::to_string(stack.size()) + "+ nested arrays or inline tables");
+        key_ctx = c == '{';
+        parts = 1;
+        if (c == '{') key_start.clear();
+        break;
+      case ']': case '}':
+        if (header && stack.empty()) { header = false; key_ctx = false; break; }
+        if (!stack.empty()) stack.pop_back();
+        break;
+      case ',':
+        if (!stack.empty() && stack.back() == '{') { key_ctx = true; parts = 1; key_start.clear(); }
+        break;
+      case '\n':
+        if (stack.empty()) { key_ctx = true; header = false; parts = 1; key_start.clear(); }
+        break;
+      default: break;
+    }
+  }
+}
+
 Override parse_override(const std::string& text) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
@@ -472,9 +566,22 @@ Case load_case(const fs::path& file, const std::vector<Override>& overrides) {
   std::error_code ec;
   if (fs::is_directory(file, ec)) throw InputError(file.string() + ": is a directory, not a case file");
   if (!fs::exists(file, ec)) throw InputError(file.string() + ": no such case file");
+  std::string text;
+  {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw InputError(file.string() + ": cannot read the case file: " + std::strerror(errno));
+    std::ostringstream os;
+    os << in.rdbuf();
+    text = os.str();
+  }
+  if (text.size() > kMaxCaseBytes)
+    throw InputError(file.string() + ": expected a case file of at most " +
+                     std::to_string(kMaxCaseBytes / 1000000) + " MB, got " +
+                     std::to_string(text.size()) + " bytes");
+  check_toml_nesting(text, file);
   toml::table t;
   try {
-    t = toml::parse_file(file.string());
+    t = toml::parse(text, file.string());
   } catch (const toml::parse_error& err) {
     std::ostringstream os;
     os << file.string() << ":" << err.source().begin.line << ":" << err.source().begin.column

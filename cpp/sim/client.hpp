@@ -27,7 +27,11 @@ class ClientMonitor {
  public:
   virtual ~ClientMonitor() = default;
   /// Called at t0 (v.t_prev == v.t) and after every accepted step, before the generic monitor.
-  virtual void observe(const mech::StepView& v) = 0;
+  /// Returns false to end the run there (e.g. the sieve's roller left the deck); the run then
+  /// writes what was computed up to stop_time(), marked incomplete, and fails with stop_reason().
+  virtual bool observe(const mech::StepView& v) = 0;
+  virtual double stop_time() const { return 0.0; }
+  virtual std::string stop_reason() const { return ""; }
   /// Adds the client's keys to the summary after a successful run. `extremes` holds the window
   /// extremes of every column (coordinates, velocities, reactions, outputs) by name.
   virtual void finish(const mech::SimulationResult& result,

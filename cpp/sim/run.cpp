@@ -203,10 +203,14 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   Monitor mon(n, n_out, w0, w1, set.dt, set.t_end, out ? &csv : nullptr);
   std::unique_ptr<ClientMonitor> client_mon = c.client ? c.client->monitor(c, set) : nullptr;
 
+  bool stopped_by_client = false;
   const auto t_start = std::chrono::steady_clock::now();
   const mech::SimulationResult res = mech::simulate(
       *model, set.q0, set.qd0, so, [&](const mech::StepView& v) {
-        if (client_mon) client_mon->observe(v);
+        if (client_mon && !client_mon->observe(v)) {
+          stopped_by_client = true;
+          return false;
+        }
         return mon.observe(v);
       });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -216,7 +220,8 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
     throw InputError(where + ": the " + source.origin() + " with the active constraints cannot be "
                      "simulated: " + res.message);
   }
-  if (res.status != mech::SimulationStatus::success) {
+  const bool complete = res.status == mech::SimulationStatus::success;
+  if (!complete && !(stopped_by_client && res.status == mech::SimulationStatus::stopped_by_observer)) {
     throw NumericalError("case '" + c.name + "': the simulation failed at t = " +
                              format_significant(res.t, 9) + " s (" + to_string(res.status) +
                              "): " + res.message,
@@ -272,13 +277,26 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   j["output_dt"] = set.dt;
   j["initial_correction"] = {{"position", res.initial_correction_pos},
                              {"velocity", res.initial_correction_vel}};
+  j["complete"] = complete;
   if (client_mon) client_mon->finish(res, ext, j);
+  if (!complete) {
+    // The model's client ended the run: what was computed up to then is written, marked as
+    // such, and the run fails (exit 3) with the client's reason.
+    j["stopped"] = {{"t", client_mon->stop_time()}, {"reason", client_mon->stop_reason()}};
+    j["t_reached"] = res.t;
+  }
 
   if (out) {
     csv.close();
     out->write("summary.json", j.dump(2) + "\n");
     out->commit();
   }
+  if (!complete)
+    throw NumericalError("case '" + c.name + "': " + client_mon->stop_reason() +
+                             (out ? "; wrote what was computed up to then to " +
+                                        options.out_dir->string() + ", marked \"complete\": false"
+                                  : std::string()),
+                         client_mon->stop_time());
   return j;
 }
 
