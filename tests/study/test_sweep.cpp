@@ -50,7 +50,7 @@ BOOST_AUTO_TEST_CASE(range_has_count_values_with_exact_ends_and_shortest_text) {
              boost::test_tools::per_element());
   // 0.1 steps must print as the decimals a user expects (no 0.30000000000000004), and
   // parse back to the same double.
-  const Axis b = parse_vary("initial.s0=0:1:11", base);
+  const Axis b = parse_vary("parameters.y0=0:1:11", base);
   BOOST_TEST(b.texts[3] == "0.3");
   BOOST_TEST(parse_vary("initial.s0=-0.4:0.4:9", base).texts[1] == "-0.3");
   BOOST_TEST(std::stod(b.texts[7]) == 0.7);
