@@ -61,6 +61,9 @@ class ModelSource {
   virtual const std::vector<ConstraintOffer>& constraints() const = 0;
   /// The names of the derived output columns (timeseries.csv after the reactions).
   virtual const std::vector<std::string>& outputs() const = 0;
+  /// Text that changes whenever the model's definition changes (a model file: a hash of its
+  /// text): sweeps key their journal with it, so rows of an edited model are not reused.
+  virtual std::string fingerprint() const { return origin(); }
   /// The excitation period for these parameter values; NaN if the model declares none.
   virtual double period(const ParameterValues& parameters) const = 0;
 

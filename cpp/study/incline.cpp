@@ -111,6 +111,7 @@ InclineReport run_incline_study(const sim::Case& base, const std::vector<Axis>& 
   so.jobs = options.jobs;
   so.progress = options.progress;
   so.cluster = options.cluster;
+  so.restart = options.restart;
   report.sweep = run_sweep(base, grid, runner, so);
   report.points = grid.size() / 2;
   if (!report.sweep.ok) {

@@ -32,6 +32,7 @@ struct InclineOptions {
   bool progress = false;              ///< progress bar on stderr
   const Cluster* cluster = nullptr;   ///< MPI ranks; null = this process alone
   bool plot = true;                   ///< run gnuplot for incline.png
+  bool restart = false;               ///< see SweepOptions::restart
 };
 
 struct InclineReport {

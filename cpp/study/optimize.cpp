@@ -23,6 +23,18 @@ bool is_numeric_column(const sim::Case& base, const std::string& name) {
   return std::find(c.begin(), c.end(), name) != c.end();
 }
 
+/// Columns that are not a number on every run: verdicts (true/false), the window flag, and the
+/// first violation times (empty while a condition holds). The optimizer cannot use them.
+std::string not_optimizable(const std::string& name) {
+  if (name.rfind("first_violation.", 0) == 0)
+    return "it is a time that exists only once the condition fails (empty while it holds); "
+           "optimize the margin instead (contact_margin, rolling_margin)";
+  if (name.size() > 5 && name.compare(name.size() - 5, 5, "_kept") == 0)
+    return "it is a verdict (true or false), not a quantity; optimize the margin instead";
+  if (name == "window_clipped") return "it is a flag (true or false), not a quantity";
+  return "";
+}
+
 std::string stop_text(nlopt::result r) {
   switch (r) {
     case nlopt::SUCCESS: return "success";
@@ -139,6 +151,8 @@ Constraint parse_constraint(const std::string& spec, const sim::Case& base) {
   std::string name = spec.substr(0, pos);
   while (!name.empty() && name.back() == ' ') name.pop_back();
   while (!name.empty() && name.front() == ' ') name.erase(0, 1);
+  if (const std::string why = not_optimizable(name); !why.empty())
+    throw InputError("--constraint '" + spec + "': '" + name + "' cannot be constrained: " + why);
   if (!is_numeric_column(base, name))
     throw InputError("--constraint '" + spec + "': unknown quantity '" + name +
                      "' (use a sweep.csv summary column of this case, e.g. " +
@@ -155,6 +169,8 @@ Constraint parse_constraint(const std::string& spec, const sim::Case& base) {
 }
 
 void check_objective_name(const std::string& name, const sim::Case& base) {
+  if (const std::string why = not_optimizable(name); !why.empty())
+    throw InputError("--objective '" + name + "': cannot be optimized: " + why);
   if (!is_numeric_column(base, name))
     throw InputError("--objective '" + name +
                      "': not a summary quantity of this case (use a sweep.csv summary column, "

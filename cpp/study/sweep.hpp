@@ -28,6 +28,9 @@ struct SweepOptions {
   unsigned jobs = 0;                            ///< threads per rank; 0 = all cores
   bool progress = false;                        ///< progress bar on stderr (rank 0)
   const Cluster* cluster = nullptr;             ///< MPI ranks to share the points; null = alone
+  /// An existing sweep.csv computed for another case (its journal key differs): false refuses
+  /// the sweep naming what changed; true discards the old rows and computes every point.
+  bool restart = false;
 };
 
 struct SweepReport {
@@ -51,6 +54,11 @@ std::vector<std::string> sweep_header(const sim::Case& base, const Grid& grid);
 std::vector<std::string> sweep_row(const sim::Case& base, const Grid& grid, std::size_t i,
                                    const Runner& runner);
 
+/// The journal key of a sweep: the pcsim version, the model's fingerprint, the varied keys and
+/// the complete effective case (after overrides) without the varied keys. Rows in sweep.csv are
+/// reused only while out_dir/sweep.key holds the same text.
+std::string sweep_key(const sim::Case& base, const Grid& grid);
+
 /// Runs every point of `grid` not yet in out_dir/sweep.csv and leaves sweep.csv holding the
 /// header and one row per grid point in grid order (then any earlier rows not on this grid).
 ///
@@ -61,6 +69,11 @@ std::vector<std::string> sweep_row(const sim::Case& base, const Grid& grid, std:
 /// interruption loses only the points in flight and at worst leaves a torn last line, which
 /// the next run drops. At the end the whole table is rewritten in grid order via temporary
 /// file + fsync + rename, so sweep.csv is never seen half-written.
+///
+/// Reuse is keyed (sweep_key, in out_dir/sweep.key): rows of an earlier sweep of another case,
+/// model or pcsim version are never taken as current; the sweep is refused, naming the first
+/// differences, or (options.restart) started afresh. A second sweep into the same directory
+/// while one runs is refused (flock on out_dir/.sweep.lock).
 ///
 /// With a multi-rank cluster, rank 0 owns the file; the pending points are dealt out
 /// round-robin (pending[k] goes to rank k mod size), every rank runs its share with `jobs`

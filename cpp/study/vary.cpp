@@ -128,12 +128,25 @@ Axis parse_vary(const std::string& spec, const sim::Case& base) {
   } else {
     reject(spec, "expected START:STOP:COUNT or a list v1,v2,...");
   }
+  // A value given twice would run the same point twice (and make two rows of one point).
+  for (std::size_t i = 0; i < axis.texts.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (std::stod(axis.texts[i]) == std::stod(axis.texts[j]))
+        reject(spec, "value " + axis.texts[i] + " appears twice (each design point runs once; "
+                     "remove the duplicate)");
+  if (sim::is_integer_key(base, key))
+    for (const auto& t : axis.texts)
+      if (t.find_first_of(".eE") != std::string::npos || t.find("inf") != std::string::npos)
+        reject(spec, "key '" + key + "' takes integers, got " + t);
   for (const auto& t : axis.texts) check_value(spec, base, key, t);
   return axis;
 }
 
 Bounds parse_bounds(const std::string& spec, const sim::Case& base) {
   auto [key, rest] = split_key(spec, base);
+  if (sim::is_integer_key(base, key))
+    reject(spec, "key '" + key + "' takes integers, and the optimizer (COBYLA) moves continuous "
+                 "design keys; sweep it instead (pcsim sweep --vary " + key + "=...)");
   const auto fields = split(rest, ':');
   if (fields.size() != 2) reject(spec, "expected KEY=LOW:HIGH");
   Bounds b{key, parse_value(spec, fields[0]), parse_value(spec, fields[1])};
