@@ -7,11 +7,13 @@
  * shapes in comments, are kept next to each bridge module:
  *   pcsim_huang.h  -> pcsim_huang_solve, pcsim_huang_null_basis    (fortran/huang.f)
  *   pcsim_radau.h  -> pcsim_radau_integrate, pcsim_radau_dense, pcsim_radau_coefficients (fortran/radau.f)
+ *   pcsim_ode_status.h -> the table of integrator statuses (IDID codes) of every ODE kernel
  */
 #ifndef PCSIM_KERNELS_H
 #define PCSIM_KERNELS_H
 
 #include "pcsim_huang.h"
+#include "pcsim_ode_status.h"
 #include "pcsim_radau.h"
 
 #endif /* PCSIM_KERNELS_H */
