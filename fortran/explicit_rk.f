@@ -76,10 +76,12 @@
 *  interpolates y0, y1, f(x, y0) and f(x + h, y1).  ERKDEN evaluates it.
 *
 *  Starting step (H = 0 on entry): with d0 = ||y0||, d1 = ||f(x,y0)||
-*  in the weighted RMS norm, h0 = 0.01 d0/d1 (1e-6 if either is below
-*  1e-5), one Euler step y0 + h0 f0 and d2 = ||f(x+h0, .) - f0||/h0;
-*  then h = min(100 h0, (0.01/max(d1, d2))**(1/8), HMAX)
-*  (Hairer, Norsett & Wanner I, II.4).  This costs one evaluation of f.
+*  in the Euclidean norm weighted by 1/sk_i (sk_i = atol_i + rtol_i
+*  |y0_i|), h0 = 0.01 d0/d1 (1e-6 if either is below 1e-5), one
+*  Euler step y0 + h0 f0 and d2 = ||f(x+h0, .) - f0||/h0; then
+*  h = min(100 h0, (0.01/max(d1, d2))**(1/8), HMAX) (Hairer, Norsett
+*  & Wanner I, II.4; if f fails at the trial point, h = h0).  This
+*  costs one evaluation of f.
 *
 *  Stiffness test.  After each accepted step the stages 12 and 13 have
 *  the same abscissa x + h, so

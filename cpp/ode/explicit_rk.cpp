@@ -17,7 +17,7 @@
 
 namespace pcsim {
 
-double explicit_rk_stiffness_bound() { return 6.1; }
+double explicit_rk_stiffness_bound() { return explicit_rk_port::kStiffnessBound; }
 
 namespace {
 

@@ -172,8 +172,6 @@ constexpr double D7_14 = 0.96324553959188282948394950600e+02;
 constexpr double D7_15 = -0.39177261675615439165231486172e+02;
 constexpr double D7_16 = -0.14972683625798562581422125276e+03;
 
-constexpr double kStiffBound = 6.1;  // STBND: 0.954 x the stability interval 6.39
-
 // The resolved options of ERKDP8.
 struct Settings {
   int itol, iout, n, ng, nmax, istif, nstper, nfailm;
@@ -531,7 +529,7 @@ int core(const Settings& s, pcsim_erk_fcn fcn, pcsim_erk_gfcn gfcn, pcsim_erk_so
       } else {
         hlamb = 0.0;
       }
-      if (hlamb > kStiffBound) {
+      if (hlamb > kStiffnessBound) {
         ++nstifp;
         ++iasti;
         nonsti = 0;

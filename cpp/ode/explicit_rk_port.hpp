@@ -8,6 +8,10 @@
 
 namespace pcsim::explicit_rk_port {
 
+/// The stiffness test's bound on h|lambda| (STBND of ERKCOR): 0.954 x the length 6.394 of the
+/// method's stability interval on the negative real axis.
+inline constexpr double kStiffnessBound = 6.1;
+
 /// Port of ERKDP8 (see its header in fortran/explicit_rk.f and bridge/pcsim_explicit_rk.h for
 /// every argument). Returns IDID.
 int integrate(pcsim_erk_fcn fcn, pcsim_erk_gfcn gfcn, pcsim_erk_solout solout, void* ctx,
