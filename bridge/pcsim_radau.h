@@ -7,6 +7,8 @@
 #ifndef PCSIM_RADAU_H
 #define PCSIM_RADAU_H
 
+#include "pcsim_ode_status.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -14,7 +16,7 @@ extern "C" {
 /* Callbacks. The kernel passes every argument by reference; ctx points to the opaque context
  * pointer given to pcsim_radau_integrate. Callbacks must not throw or longjmp.
  *   fcn:    f[0..n) = f(*t, y). *ierr = 0 ok, 1 cannot evaluate here (step retried smaller),
- *           anything else fatal (IDID = 5).
+ *           anything else fatal (IDID = 10, callback_error).
  *   jac:    dfdy[ldj x n] = df/dy at (*t, y). *ierr = 0 ok, else fatal.
  *   solout: after each accepted step [*told, *t]; y[n] may be modified; cont[ldc x 4] are the
  *           continuation coefficients for pcsim_radau_dense. *irtrn = 0 proceed, 1 y modified,
@@ -44,8 +46,8 @@ typedef void (*pcsim_radau_solout)(const int* n, const double* told, const doubl
  *                   nind3, classical step control (1), zero Newton start (1);
  *                   iwork[10..17] output statistics: f evaluations, Jacobians, LU decompositions,
  *                   linear solves, steps, accepted, rejected, singular matrices
- *   idid  0 success, 1 stopped by solout, -i argument i illegal, 2 too many steps,
- *         3 step too small, 4 matrix repeatedly singular, 5 callback error */
+ *   idid  a code of the ODE status table (pcsim_ode_status.h): 0 success, 1 stopped by
+ *         solout, -i argument i illegal, >= 3 a failure (see the table) */
 void pcsim_radau_integrate(pcsim_radau_fcn fcn, pcsim_radau_jac jac, pcsim_radau_solout solout,
                            void* ctx, int ijac, int imas, int itol, int iout, int n, double* t,
                            double tend, double* y, double* h, const double* rtol,

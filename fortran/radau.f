@@ -100,12 +100,12 @@
 *             TYPE(C_PTR) CTX  (passed through untouched)
 *          computes F = f(T, Y).  IERR = 0: success; IERR = 1: f cannot
 *          be evaluated at (T, Y) (the step is rejected and retried with
-*          h/2); any other value: fatal error, RADIIA returns IDID = 5.
+*          h/2); any other value: fatal error, RADIIA returns IDID = 10.
 *
 *  JAC     (input) EXTERNAL subroutine, the Jacobian (used if IJAC = 1)
 *             SUBROUTINE JAC( N, T, Y, DFDY, LDJ, CTX, IERR )
 *          computes DFDY(LDJ,N) = df/dy at (T, Y), column major.
-*          IERR /= 0: fatal, IDID = 5.
+*          IERR /= 0: fatal, IDID = 10.
 *
 *  SOLOUT  (input) EXTERNAL subroutine, called after every accepted
 *          step if IOUT = 1:
@@ -117,7 +117,7 @@
 *          weighted RMS norm > 1, the next step starts its Newton
 *          iteration from zero stage values instead of the extrapolated
 *          polynomial, with a fresh Jacobian);
-*          2: stop (IDID = 1); any other value: fatal error (IDID = 5).
+*          2: stop (IDID = 1); any other value: fatal error (IDID = 10).
 *
 *  CTX     (input) TYPE(C_PTR), opaque context handed to FCN, JAC and
 *          SOLOUT unchanged.
@@ -214,22 +214,26 @@
 *
 *  LIWORK  (input) INTEGER.  LIWORK >= 20 + 2*N.
 *
-*  IDID    (output) INTEGER.
-*          = 0:  success, T = TEND.
-*          = 1:  stopped by SOLOUT (IRTRN = 2); T is the end of the
-*                last accepted step.
+*  IDID    (output) INTEGER, a code of the pcsim ODE status table
+*          (bridge/pcsim_ode_status.h; named constants ODE_* in
+*          fortran/pcsim_ode_status.fi; docs/radau.md "Statuses"):
+*          = 0  (ODE_SUCCESS):  success, T = TEND.
+*          = 1  (ODE_STOPPED_BY_CALLBACK):  stopped by SOLOUT
+*               (IRTRN = 2); T is the end of the last accepted step.
 *          < 0:  if IDID = -i, the i-th argument had an illegal value
 *                (an option in WORK or IWORK gives -18 or -22); nothing
 *                was computed.
-*          = 2:  more than NMAX steps.
-*          = 3:  step size too small: 0.1*|h| <= EPS*|t|; in fixed-step
-*                mode also: Newton did not converge with a fresh
-*                Jacobian.
-*          = 4:  the iteration matrix was singular more than 5 times.
-*          = 5:  a callback reported a fatal error (FCN IERR > 1 or
-*                < 0, JAC IERR /= 0, SOLOUT IRTRN > 2 or < 0), or FCN
-*                could not be evaluated at an accepted state.
-*          On IDID = 2..5, T and Y are the last accepted state.
+*          = 3  (ODE_TOO_MANY_STEPS):  more than NMAX steps.
+*          = 4  (ODE_STEP_TOO_SMALL):  step size too small:
+*               0.1*|h| <= EPS*|t|; in fixed-step mode also: Newton
+*               did not converge with a fresh Jacobian.
+*          = 6  (ODE_SINGULAR_MATRIX):  the iteration matrix was
+*               singular more than 5 times.
+*          = 10 (ODE_CALLBACK_ERROR):  a callback reported a fatal
+*               error (FCN IERR > 1 or < 0, JAC IERR /= 0, SOLOUT
+*               IRTRN > 2 or < 0), or FCN could not be evaluated at an
+*               accepted state.
+*          On IDID >= 3, T and Y are the last accepted state.
 *
 *  Further Details
 *  ===============
@@ -446,6 +450,7 @@
      $                   FJAC( N, N ), E1( N, N )
       COMPLEX*16         E2( N, N ), ZT( N )
       EXTERNAL           FCN, JAC, SOLOUT
+      INCLUDE 'pcsim_ode_status.fi'
 *
 *  Purpose
 *  =======
@@ -523,7 +528,7 @@
       CALL FCN( N, X, Y, Y0, CTX, IERR )
       NFCN = NFCN + 1
       IF( IERR.NE.0 ) THEN
-         IDID = 5
+         IDID = ODE_CALLBACK_ERROR
          GO TO 900
       END IF
 *
@@ -535,7 +540,7 @@
      $                IERR )
          NJAC = NJAC + 1
          IF( IERR.NE.0 ) THEN
-            IDID = 5
+            IDID = ODE_CALLBACK_ERROR
             GO TO 900
          END IF
          CALJAC = .TRUE.
@@ -552,11 +557,11 @@
          IF( INFO.NE.0 ) THEN
             NSING = NSING + 1
             IF( NSING.GT.5 ) THEN
-               IDID = 4
+               IDID = ODE_SINGULAR_MATRIX
                GO TO 900
             END IF
             IF( FIXED ) THEN
-               IDID = 3
+               IDID = ODE_STEP_TOO_SMALL
                GO TO 900
             END IF
             H = H*0.5D0
@@ -570,11 +575,11 @@
 *     ---- One step attempt from X with step H.
 *
       IF( NSTEP.GE.NMAX ) THEN
-         IDID = 2
+         IDID = ODE_TOO_MANY_STEPS
          GO TO 900
       END IF
       IF( 0.1D0*ABS( H ).LE.ABS( X )*UROUND ) THEN
-         IDID = 3
+         IDID = ODE_STEP_TOO_SMALL
          GO TO 900
       END IF
       NSTEP = NSTEP + 1
@@ -732,7 +737,7 @@
 *     f could not be evaluated at a stage: like a Newton failure.
   390 CONTINUE
       IF( IERR.NE.1 ) THEN
-         IDID = 5
+         IDID = ODE_CALLBACK_ERROR
          GO TO 900
       END IF
       GO TO 400
@@ -741,7 +746,7 @@
   400 CONTINUE
       IF( FIXED ) THEN
          IF( CALJAC ) THEN
-            IDID = 3
+            IDID = ODE_STEP_TOO_SMALL
             GO TO 900
          END IF
       ELSE
@@ -812,7 +817,7 @@
       IF( IOUT.EQ.1 ) THEN
          CALL SOLOUT( N, XOLD, X, Y, CONT, N, CTX, IERR )
          IF( IERR.EQ.2 ) THEN
-            IDID = 1
+            IDID = ODE_STOPPED_BY_CALLBACK
             GO TO 900
          ELSE IF( IERR.EQ.1 ) THEN
 *           Y was modified.  A change within the tolerance (weighted
@@ -824,20 +829,20 @@
   520       CONTINUE
             STARTZ = SQRT( SUM / DBLE( N ) ).GT.1.0D0
          ELSE IF( IERR.NE.0 ) THEN
-            IDID = 5
+            IDID = ODE_CALLBACK_ERROR
             GO TO 900
          END IF
       END IF
       CALJAC = .FALSE.
       IF( LAST ) THEN
          H = HOPT
-         IDID = 0
+         IDID = ODE_SUCCESS
          GO TO 900
       END IF
       CALL FCN( N, X, Y, Y0, CTX, IERR )
       NFCN = NFCN + 1
       IF( IERR.NE.0 ) THEN
-         IDID = 5
+         IDID = ODE_CALLBACK_ERROR
          GO TO 900
       END IF
       HNEW = POSNEG*MIN( ABS( HNEW ), HMAXN )

@@ -17,19 +17,6 @@
 
 namespace pcsim {
 
-const char* to_string(RadauStatus status) {
-  switch (status) {
-    case RadauStatus::success: return "success";
-    case RadauStatus::stopped_by_callback: return "stopped_by_callback";
-    case RadauStatus::bad_input: return "bad_input";
-    case RadauStatus::too_many_steps: return "too_many_steps";
-    case RadauStatus::step_too_small: return "step_too_small";
-    case RadauStatus::singular_matrix: return "singular_matrix";
-    case RadauStatus::callback_error: return "callback_error";
-  }
-  return "unknown";
-}
-
 void StepInfo::dense(double s, double* out) const { impl_dense_(impl_, s, out); }
 double StepInfo::dense(int i, double s) const { return impl_dense1_(impl_, i, s); }
 
@@ -279,39 +266,37 @@ RadauResult radau_integrate(const OdeProblem& problem, double t0, const Eigen::V
   r.stats.rejected = iwork[16];
 
   const std::string where = std::string("radau (") + to_string(options.kernel) + ")";
-  switch (idid) {
-    case 0: r.status = RadauStatus::success; break;
-    case 1:
-      r.status = RadauStatus::stopped_by_callback;
+  r.status = ode_status_from_idid(idid);
+  switch (r.status) {
+    case OdeStatus::success: break;
+    case OdeStatus::stopped_by_callback:
       r.message = where + ": stopped by the step callback at t = " + at_time(t);
       break;
-    case 2:
-      r.status = RadauStatus::too_many_steps;
+    case OdeStatus::too_many_steps:
       r.message = where + ": more than " + std::to_string(iwork[0]) + " steps, at t = " +
                   at_time(t);
       break;
-    case 3:
-      r.status = RadauStatus::step_too_small;
+    case OdeStatus::step_too_small:
       r.message = where + (options.fixed_step > 0.0
                                ? ": Newton iteration did not converge with the fixed step"
                                : ": step size too small") +
                   " at t = " + at_time(t) + " (h = " + at_time(h) + ")";
       break;
-    case 4:
-      r.status = RadauStatus::singular_matrix;
+    case OdeStatus::singular_matrix:
       r.message = where + ": iteration matrix repeatedly singular at t = " + at_time(t);
       break;
-    case 5:
-      r.status = RadauStatus::callback_error;
+    case OdeStatus::callback_error:
       r.message = where + ": " +
                   (ctx.error.empty()
                        ? "the right-hand side could not be evaluated at the accepted state t = " +
                              at_time(t)
                        : ctx.error);
       break;
-    default:
-      r.status = RadauStatus::bad_input;
+    case OdeStatus::bad_input:
       r.message = where + ": argument " + std::to_string(-idid) + " of the kernel is invalid";
+      break;
+    default:
+      r.message = where + ": " + meaning(r.status) + " at t = " + at_time(t);
       break;
   }
   return r;

@@ -21,6 +21,7 @@
 #include <Eigen/Dense>
 
 #include "common/kernel.hpp"
+#include "ode/status.hpp"
 
 namespace pcsim {
 
@@ -69,16 +70,9 @@ struct RadauStats {
   long rejected = 0;
 };
 
-enum class RadauStatus {
-  success = 0,          ///< reached t_end
-  stopped_by_callback,  ///< the step callback returned StepAction::stop
-  bad_input,            ///< invalid argument (n <= 0, tolerances <= 0, K of wrong size, ...)
-  too_many_steps,       ///< more than max_steps steps
-  step_too_small,       ///< step size underflow relative to t
-  singular_matrix,      ///< the iteration matrix was repeatedly singular
-  callback_error,       ///< f, the Jacobian or the step callback threw
-};
-const char* to_string(RadauStatus status);
+/// The Radau kernel's statuses are the shared ODE status table (ode/status.hpp); the old name
+/// stays as an alias so code written against RadauStatus compiles unchanged.
+using RadauStatus = OdeStatus;
 
 /// What the step callback sees after every accepted step [t_prev, t].
 class StepInfo {

@@ -259,7 +259,7 @@ int Core::run(double& x, double xend, double* y, double& h) {
   fcn_(&n, &x, y, y0_, &ctx_, &ierr);
   ++nfcn;
   if (ierr != 0) {
-    idid = 5;
+    idid = PCSIM_ODE_callback_error;
     next = Next::exit;
   }
 
@@ -268,7 +268,7 @@ int Core::run(double& x, double xend, double* y, double& h) {
       if (next == Next::newton_failure) {
         if (fixed) {
           if (caljac) {
-            idid = 3;
+            idid = PCSIM_ODE_step_too_small;
             break;
           }
         } else {
@@ -287,7 +287,7 @@ int Core::run(double& x, double xend, double* y, double& h) {
       ierr = jacobian(fcn_, jac_, &ctx_, s_, x, y, y0_, fjac_, t1_, nfcn);
       ++njac;
       if (ierr != 0) {
-        idid = 5;
+        idid = PCSIM_ODE_callback_error;
         break;
       }
       caljac = true;
@@ -303,11 +303,11 @@ int Core::run(double& x, double xend, double* y, double& h) {
       if (!ok) {
         ++nsing;
         if (nsing > 5) {
-          idid = 4;
+          idid = PCSIM_ODE_singular_matrix;
           break;
         }
         if (fixed) {
-          idid = 3;
+          idid = PCSIM_ODE_step_too_small;
           break;
         }
         h = h * 0.5;
@@ -319,11 +319,11 @@ int Core::run(double& x, double xend, double* y, double& h) {
     }
     // One step attempt.
     if (nstep >= s_.nmax) {
-      idid = 2;
+      idid = PCSIM_ODE_too_many_steps;
       break;
     }
     if (0.1 * std::abs(h) <= std::abs(x) * uround) {
-      idid = 3;
+      idid = PCSIM_ODE_step_too_small;
       break;
     }
     ++nstep;
@@ -442,7 +442,7 @@ int Core::run(double& x, double xend, double* y, double& h) {
     if (!converged) {
       if (next == Next::main) {  // f failed (label 390)
         if (ierr != 1) {
-          idid = 5;
+          idid = PCSIM_ODE_callback_error;
           break;
         }
         next = Next::newton_failure;
@@ -459,7 +459,7 @@ int Core::run(double& x, double xend, double* y, double& h) {
       ierr = estimate(x, h, y, first || reject, nfcn, nsol, err);
       if (ierr != 0) {
         if (ierr != 1) {
-          idid = 5;
+          idid = PCSIM_ODE_callback_error;
           break;
         }
         next = Next::newton_failure;
@@ -519,7 +519,7 @@ int Core::run(double& x, double xend, double* y, double& h) {
       int irtrn = 0;
       solout_(&n, &xold, &x, y, cont_, &n, &ctx_, &irtrn);
       if (irtrn == 2) {
-        idid = 1;
+        idid = PCSIM_ODE_stopped_by_callback;
         break;
       } else if (irtrn == 1) {  // y modified: zero Newton start only if beyond the tolerance
         double sum = 0.0;
@@ -529,20 +529,20 @@ int Core::run(double& x, double xend, double* y, double& h) {
         }
         startz = std::sqrt(sum / double(n)) > 1.0;
       } else if (irtrn != 0) {
-        idid = 5;
+        idid = PCSIM_ODE_callback_error;
         break;
       }
     }
     caljac = false;
     if (last) {
       h = hopt;
-      idid = 0;
+      idid = PCSIM_ODE_success;
       break;
     }
     fcn_(&n, &x, y, y0_, &ctx_, &ierr);
     ++nfcn;
     if (ierr != 0) {
-      idid = 5;
+      idid = PCSIM_ODE_callback_error;
       break;
     }
     hnew = posneg * std::min(std::abs(hnew), s_.hmaxn);
