@@ -9,6 +9,7 @@
 
 #include "mech/dynamics.hpp"
 #include "mech/projection.hpp"
+#include "ode/integrate.hpp"
 
 namespace pcsim::mech {
 
@@ -261,23 +262,32 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
     problem.mass = Eigen::MatrixXd::Zero(4 * n, 4 * n);
     problem.mass.topLeftCorner(2 * n, 2 * n).setIdentity();
   }
-  RadauOptions ro;
-  ro.kernel = options.kernel;
-  ro.rtol = options.rtol;
-  ro.atol = options.atol;
-  ro.h0 = options.h0;
-  ro.hmax = options.hmax;
-  ro.max_steps = options.max_steps;
-  const RadauResult rr = radau_integrate(
-      problem, options.t0, y0, options.t_end, ro,
+  OdeOptions oo;
+  oo.kernel = options.kernel;
+  oo.rtol = options.rtol;
+  oo.atol = options.atol;
+  oo.h0 = options.h0;
+  oo.hmax = options.hmax;
+  oo.max_steps = options.max_steps;
+  const OdeResult rr = ode_integrate(
+      problem, options.t0, y0, options.t_end, oo, options.method,
       [&run, &observer](StepInfo& step) { return run.on_step(step, observer); });
 
   result.integrator_status = rr.status;
-  result.status = rr.status == RadauStatus::success               ? SimulationStatus::success
-                  : rr.status == RadauStatus::stopped_by_callback ? SimulationStatus::stopped_by_observer
-                                                                  : SimulationStatus::integration_failed;
+  result.status = rr.status == OdeStatus::success               ? SimulationStatus::success
+                  : rr.status == OdeStatus::stopped_by_callback ? SimulationStatus::stopped_by_observer
+                                                                : SimulationStatus::integration_failed;
   result.t = rr.t;
-  result.stats = rr.stats;
+  result.stats.f_evals = rr.f_evals;
+  result.stats.steps = rr.steps;
+  result.stats.accepted = rr.accepted;
+  result.stats.rejected = rr.rejected;
+  result.stats.jacobians = rr.radau_stats.jacobians;
+  result.stats.lu_decompositions = rr.radau_stats.lu_decompositions;
+  result.stats.linear_solves = rr.radau_stats.linear_solves;
+  result.used_explicit = rr.used_explicit;
+  result.used_radau = rr.used_radau;
+  result.switch_time = rr.switch_time;
   result.message = rr.message;
   result.q_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.head(n)) : q;
   result.qd_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.segment(n, n)) : qd;
@@ -290,7 +300,7 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   } else if (!run.observer_error_.empty()) {
     result.status = SimulationStatus::observer_error;
     result.message = run.observer_error_;
-  } else if (rr.status != RadauStatus::success && rr.status != RadauStatus::stopped_by_callback &&
+  } else if (rr.status != OdeStatus::success && rr.status != OdeStatus::stopped_by_callback &&
              run.last_issue_ != ModelIssue::none) {
     result.status = SimulationStatus::model_failed;
     result.issue = run.last_issue_;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "common/kernel.hpp"
 #include "mech/model.hpp"
 #include "mech/status.hpp"
+#include "ode/integrate.hpp"
 #include "ode/radau.hpp"
 
 namespace pcsim::mech {
@@ -19,6 +21,8 @@ struct SimulationOptions {
   Kernel kernel = Kernel::fortran;  ///< Huang and Radau kernel path
   Form form = Form::ode;
   double t0 = 0.0, t_end = 1.0;
+  OdeMethod method = OdeMethod::radau;  ///< radau, explicit_rk, or automatic (explicit, then
+                                        ///< Radau where the stiffness test fires)
   double rtol = 1e-8, atol = 1e-8;
   double h0 = 0.0;                  ///< 0: integrator default
   double hmax = 0.0;                ///< 0: integrator default
@@ -58,11 +62,13 @@ using StepObserver = std::function<bool(const StepView&)>;
 
 struct SimulationResult {
   SimulationStatus status = SimulationStatus::invalid_model;
-  RadauStatus integrator_status = RadauStatus::bad_input;  ///< the integrator's own status
+  OdeStatus integrator_status = OdeStatus::bad_input;  ///< the integrator's own status
   ModelIssue issue = ModelIssue::none;  ///< the cause when the model or constraints are bad
   std::string message;                  ///< human-readable reason on failure (names things)
   double t = 0.0;                       ///< time reached
-  RadauStats stats;
+  RadauStats stats;                     ///< totals over the methods used
+  bool used_explicit = false, used_radau = false;  ///< which methods took steps
+  double switch_time = std::numeric_limits<double>::quiet_NaN();  ///< automatic: where Radau took over
   double initial_correction_pos = 0.0;  ///< |Δq|₂ of the consistent-initial-value projection
   double initial_correction_vel = 0.0;  ///< |Δq̇|₂
   double residual_pos_max = 0.0;        ///< over the accepted steps (after projection if on)

@@ -145,6 +145,13 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   form.choices = {"ode", "dae"};
   form.string_default = "ode";
   keys.push_back(form);
+  KeySpec method = kernel;
+  method.name = "method";
+  method.meaning = "the integrator: Radau IIA, the explicit Dormand-Prince 8(5,3) pair, or auto "
+                   "(explicit until its stiffness test fires, then Radau)";
+  method.choices = {"radau", "explicit", "auto"};
+  method.string_default = "radau";
+  keys.push_back(method);
   keys.push_back(number_key("solver", "rtol",
                             "relative tolerance; below 1e-13 the error estimates are dominated "
                             "by the rounding of double precision",
@@ -411,6 +418,11 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
     }
     if (sec->contains(k.name)) check_value(file, k, *sec);
   }
+  if (t["solver"]["form"].value_or(std::string()) == "dae" &&
+      t["solver"]["method"].value_or(std::string()) == "explicit")
+    fail(file, "solver.method", "\"radau\" or \"auto\" with solver.form = \"dae\" (the DAE form "
+                                "has a singular mass matrix, which only Radau integrates)",
+         "\"explicit\"");
   if (t["output"]["summary_periods"] && t["output"]["summary_time"])
     fail(file, "output.summary_time",
          "either output.summary_periods or output.summary_time, not both (the summary window)");
@@ -650,6 +662,7 @@ Setup setup_of(const Case& c) {
     if (t["constraints"][con.name].value_or(con.active_by_default)) s.active.push_back(con.name);
   s.kernel = *parse_kernel(t["solver"]["kernel"].value_or(std::string("fortran")));
   s.form = t["solver"]["form"].value_or(std::string("ode")) == "dae" ? mech::Form::dae : mech::Form::ode;
+  s.method = *parse_ode_method(t["solver"]["method"].value_or(std::string("radau")));
   s.rtol = t["solver"]["rtol"].value_or(1e-6);
   s.atol = t["solver"]["atol"].value_or(1e-8);
   s.t_end = t["solver"]["t_end"].value_or(10.0);

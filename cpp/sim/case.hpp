@@ -16,6 +16,7 @@
 
 #include "common/kernel.hpp"
 #include "mech/status.hpp"
+#include "ode/integrate.hpp"
 #include "sim/model_source.hpp"
 
 namespace pcsim::sim {
@@ -105,6 +106,7 @@ struct Setup {
   std::vector<std::string> active;      ///< active constraints, in the model's offer order
   Kernel kernel = Kernel::fortran;
   mech::Form form = mech::Form::ode;
+  OdeMethod method = OdeMethod::radau;
   double rtol = 1e-6, atol = 1e-8, t_end = 10.0, h0 = 0.0;
   double dt = 1e-3;                     ///< time-series interval
   WindowSpec window;

@@ -178,6 +178,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   mech::SimulationOptions so;
   so.kernel = set.kernel;
   so.form = set.form;
+  so.method = set.method;
   so.t0 = 0.0;
   so.t_end = set.t_end;
   so.rtol = set.rtol;
@@ -238,6 +239,10 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   if (!options.variant.empty()) j["model_variant"] = options.variant;
   j["kernel"] = to_string(set.kernel);
   j["form"] = to_string(set.form);
+  j["method"] = to_string(set.method);
+  j["methods_used"] = res.used_explicit && res.used_radau
+                          ? "explicit, then radau from t = " + format_significant(res.switch_time, 9)
+                          : (res.used_explicit ? "explicit" : "radau");
   j["t_end"] = set.t_end;
   j["window"] = {w0, w1};
   j["window_clipped"] = clipped;
