@@ -333,7 +333,10 @@
 *               them hold at T, E1^{-1} (0; f_alg(T, Y)), exceeds the
 *               tolerance (weighted RMS norm > 1).
 *          = 13 (ODE_MISSING_INDEX_COUNTS):  K has zero rows, NIND2 =
-*               NIND3 = 0, and the first step failed (4 or 5 above):
+*               NIND3 = 0, and either the first step failed (4 or 5
+*               above) or the correction of 12 grew by more than 3x
+*               when h was divided by 10 (an index-1 correction does
+*               not depend on h; index-2/3 ones grow like 1/h, 1/h**2):
 *               the index-2/3 counts are probably missing.
 *          On IDID >= 3, T and Y are the last accepted state.
 *
@@ -844,14 +847,38 @@
                IF( SUM.EQ.0.0D0 ) T1( M1+I ) = Y0( M1+I )
             END IF
   136    CONTINUE
+         DO 134 I = 1, N
+            T2( I ) = T1( I )
+  134    CONTINUE
          CALL RADSL1( ILAPCK, N, M1, M2, FAC1, FJAC, E1, IP1, T1, TS )
          SUM = 0.0D0
          DO 138 I = 1, N
             SUM = SUM + ( T1( I ) / SCAL( I ) )**2
   138    CONTINUE
-         IF( .NOT.( SQRT( SUM / DBLE( N ) ).LE.1.0D0 ) ) THEN
+         DYNO = SQRT( SUM / DBLE( N ) )
+         IF( .NOT.( DYNO.LE.1.0D0 ) ) THEN
             NSTEP = NSTEP - 1
             IDID = ODE_INCONSISTENT_START
+            IF( NIND2 + NIND3.EQ.0 ) THEN
+*              Index probe: for index-1 equations the correction does
+*              not depend on h; for higher-index ones (whose counts
+*              are missing) it grows like 1/h or 1/h**2.  Same
+*              correction with h/10; the LU is rebuilt before any step.
+               CALL RADDEC( IMAS, ILAPCK, N, M1, M2, 10.0D0*FAC1,
+     $                      10.0D0*ALPHN, 10.0D0*BETAN, FJAC, AM, LDM,
+     $                      E1, E2R, E2I, E2, IP1, IP2, IWL, INFO )
+               NDEC = NDEC + 1
+               IF( INFO.EQ.0 ) THEN
+                  CALL RADSL1( ILAPCK, N, M1, M2, 10.0D0*FAC1, FJAC,
+     $                         E1, IP1, T2, TS )
+                  SUM = 0.0D0
+                  DO 139 I = 1, N
+                     SUM = SUM + ( T2( I ) / SCAL( I ) )**2
+  139             CONTINUE
+                  IF( SQRT( SUM / DBLE( N ) ).GT.3.0D0*DYNO )
+     $               IDID = ODE_MISSING_INDEX_COUNTS
+               END IF
+            END IF
             GO TO 900
          END IF
       END IF

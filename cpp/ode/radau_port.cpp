@@ -611,12 +611,24 @@ int Core::run(double& x, double xend, double* y, double& h) {
       for (int i = 0; i < n; ++i) t1_[i] = 0.0;
       for (int i = 0; i < nm; ++i)
         if (zero_row(i)) t1_[m1 + i] = y0_[m1 + i];
+      for (int i = 0; i < n; ++i) t2_[i] = t1_[i];
       solve1(fac1, t1_);
       double sum = 0.0;
       for (int i = 0; i < n; ++i) sum = sum + (t1_[i] / scal_[i]) * (t1_[i] / scal_[i]);
-      if (!(std::sqrt(sum / double(n)) <= 1.0)) {
+      const double dyno = std::sqrt(sum / double(n));
+      if (!(dyno <= 1.0)) {
         --nstep;
         idid = PCSIM_ODE_inconsistent_start;
+        if (s_.nind2 + s_.nind3 == 0) {  // index probe with h/10 (see RADCOR)
+          const bool ok = decompose(10.0 * fac1, 10.0 * alphn, 10.0 * betan);
+          ++ndec;
+          if (ok) {
+            solve1(10.0 * fac1, t2_);
+            sum = 0.0;
+            for (int i = 0; i < n; ++i) sum = sum + (t2_[i] / scal_[i]) * (t2_[i] / scal_[i]);
+            if (std::sqrt(sum / double(n)) > 3.0 * dyno) idid = PCSIM_ODE_missing_index_counts;
+          }
+        }
         break;
       }
     }
