@@ -463,7 +463,7 @@
       IF( M2.EQ.0 ) M2 = M1
       ILAPCK = IWORK( 9 )
       IF( NMAX.LT.1 .OR. NIT.LT.1 .OR. NIND2.LT.0 .OR. NIND3.LT.0
-     $    .OR. NIND2 + NIND3.GT.N - M1 .OR. IPRED.LT.0 .OR. IPRED.GT.1
+     $    .OR. NIND2 + NIND3.GT.N .OR. IPRED.LT.0 .OR. IPRED.GT.1
      $    .OR. ISTRT.LT.0 .OR. ISTRT.GT.1 .OR. M1.LT.0 .OR. M2.LT.0
      $    .OR. ILAPCK.LT.0 .OR. ILAPCK.GT.2 ) THEN
          IDID = -24
@@ -648,7 +648,8 @@
      $                   ERRACC, ERR, FACCON, THETA, THQ, THQOLD, DYNO,
      $                   DYNOLD, FAC1, ALPHN, BETAN, CFAC, QUOT, FAC,
      $                   FACGUS, QNEWT, DYTH, HHFAC, QT, C1Q, C2Q, C3Q,
-     $                   AK1, AK2, AK3, A1, A2, A3, SUM, HABS, XROOT
+     $                   AK1, AK2, AK3, A1, A2, A3, SUM, HABS, XROOT,
+     $                   FCHK
       DOUBLE PRECISION   GAM, ALP, BET, C1M1, C2M1, C1MC2
 *     .. Local Arrays ..
       DOUBLE PRECISION   C( 3 ), TT( 3, 3 ), TI( 3, 3 ), DD( 3 )
@@ -822,10 +823,10 @@
       DO 110 I = 1, N
          SCAL( I ) = ATT( I ) + RTT( I )*ABS( Y( I ) )
   110 CONTINUE
-      DO 120 I = M1 + NIND1 + 1, M1 + NIND1 + NIND2
+      DO 120 I = NIND1 + 1, NIND1 + NIND2
          SCAL( I ) = SCAL( I ) / HABS
   120 CONTINUE
-      DO 130 I = M1 + NIND1 + NIND2 + 1, N
+      DO 130 I = NIND1 + NIND2 + 1, N
          SCAL( I ) = SCAL( I ) / ( HABS*HABS )
   130 CONTINUE
 *
@@ -945,19 +946,18 @@
       CALL FCN( N, X + H, T1, F3, CTX, IERR )
       NFCN = NFCN + 1
       IF( IERR.NE.0 ) GO TO 390
-      IF( .NOT.( RADFIN( N, F1 ) .AND. RADFIN( N, F2 ) .AND.
-     $    RADFIN( N, F3 ) ) ) THEN
-         IWHAT = 1
-         GO TO 380
-      END IF
-*        Right-hand side: (T^{-1} (x) I) F - (L/h (x) K) W.
+*        Right-hand side: (T^{-1} (x) I) F - (L/h (x) K) W.  FCHK
+*        stays 0 unless some F is not finite (x - x is NaN for NaN and
+*        Inf): the finiteness test costs no extra pass over F.
       CALL RADMAS( IMAS, ILAPCK, N, M1, AM, LDM, W1, Z1 )
       CALL RADMAS( IMAS, ILAPCK, N, M1, AM, LDM, W2, Z2 )
       CALL RADMAS( IMAS, ILAPCK, N, M1, AM, LDM, W3, Z3 )
+      FCHK = 0.0D0
       DO 250 I = 1, N
          A1 = F1( I )
          A2 = F2( I )
          A3 = F3( I )
+         FCHK = FCHK + ( ( A1 - A1 ) + ( A2 - A2 ) + ( A3 - A3 ) )
          F1( I ) = TI( 1, 1 )*A1 + TI( 1, 2 )*A2 + TI( 1, 3 )*A3
      $             - FAC1*Z1( I )
          F2( I ) = TI( 2, 1 )*A1 + TI( 2, 2 )*A2 + TI( 2, 3 )*A3
@@ -965,6 +965,10 @@
          F3( I ) = TI( 3, 1 )*A1 + TI( 3, 2 )*A2 + TI( 3, 3 )*A3
      $             - BETAN*Z2( I ) - ALPHN*Z3( I )
   250 CONTINUE
+      IF( FCHK.NE.0.0D0 ) THEN
+         IWHAT = 1
+         GO TO 380
+      END IF
       CALL RADSLV( ILAPCK, N, M1, M2, FAC1, ALPHN, BETAN, FJAC, E1,
      $             E2R, E2I, E2, IP1, IP2, F1, F2, F3, TS, ZT )
       NSOL = NSOL + 1

@@ -24,9 +24,9 @@
 *
 *  RADLUD computes P A = L U by Gaussian elimination with partial
 *  (row) pivoting: L unit lower triangular, U upper triangular, both
-*  stored in A; row k was interchanged with row IPIV(k) (LAPACK's
-*  convention, interchanges applied to whole rows, so the result is
-*  usable with RADLUS exactly as DGETRF's with DGETRS).
+*  stored in A, except that the diagonal holds 1/u(k,k) (the solves
+*  multiply instead of divide); row k was interchanged with row
+*  IPIV(k) (LAPACK's convention, interchanges applied to whole rows).
 *
 *  Mathematics: at step k the pivot is the first entry of largest
 *  modulus in A(k:n,k); after the interchange the multipliers are
@@ -78,6 +78,7 @@
    20       CONTINUE
          END IF
          PIV = A( K, K )
+         A( K, K ) = 1.0D0 / PIV
          NL = 0
          DO 30 I = K + 1, N
             IF( A( I, K ).NE.0.0D0 ) THEN
@@ -150,7 +151,7 @@
    30 CONTINUE
       DO 50 K = N, 1, -1
          IF( B( K ).NE.0.0D0 ) THEN
-            B( K ) = B( K ) / A( K, K )
+            B( K ) = B( K )*A( K, K )
             T = B( K )
             DO 40 I = 1, K - 1
                B( I ) = B( I ) - A( I, K )*T
@@ -174,7 +175,8 @@
 *  =======
 *
 *  RADLZD is RADLUD for the complex matrix A = AR + i AI, its real and
-*  imaginary parts stored in two real arrays.  Every complex operation
+*  imaginary parts stored in two real arrays (the diagonal holding
+*  1/u(k,k), as in RADLUD).  Every complex operation
 *  is written out in real arithmetic (so the C++ port rounds exactly
 *  alike); the pivot is the first entry of largest |re| + |im| in
 *  A(k:n,k); the reciprocal of the pivot is formed by Smith's
@@ -239,6 +241,8 @@
             RR = Q / D
             RI = -1.0D0 / D
          END IF
+         AR( K, K ) = RR
+         AI( K, K ) = RI
          NL = 0
          DO 30 I = K + 1, N
             IF( AR( I, K ).NE.0.0D0 .OR. AI( I, K ).NE.0.0D0 ) THEN
@@ -283,8 +287,8 @@
 *
 *  RADLZS solves A x = b, A = AR + i AI factored by RADLZD and
 *  b = BR + i BI, in place (x = BR + i BI on exit), in real arithmetic
-*  as RADLUS does; the division by a diagonal entry of U uses Smith's
-*  algorithm.
+*  as RADLUS does; the diagonal of U is applied as its stored
+*  reciprocal.
 *
 *  Arguments
 *  =========
@@ -299,8 +303,7 @@
 *  =====================================================================
 *
       INTEGER            I, K, P
-      DOUBLE PRECISION   TR, TI, Q, D, XR, XI
-      INTRINSIC          ABS
+      DOUBLE PRECISION   TR, TI, XR, XI
 *
       DO 10 K = 1, N
          P = IPIV( K )
@@ -327,18 +330,9 @@
          XR = BR( K )
          XI = BI( K )
          IF( XR.NE.0.0D0 .OR. XI.NE.0.0D0 ) THEN
-*           (TR + i TI) = (XR + i XI) / (AR(K,K) + i AI(K,K)), Smith.
-            IF( ABS( AR( K, K ) ).GE.ABS( AI( K, K ) ) ) THEN
-               Q = AI( K, K ) / AR( K, K )
-               D = AR( K, K ) + AI( K, K )*Q
-               TR = ( XR + XI*Q ) / D
-               TI = ( XI - XR*Q ) / D
-            ELSE
-               Q = AR( K, K ) / AI( K, K )
-               D = AI( K, K ) + AR( K, K )*Q
-               TR = ( XR*Q + XI ) / D
-               TI = ( XI*Q - XR ) / D
-            END IF
+*           (TR + i TI) = (XR + i XI) * (1/u(k,k)), stored by RADLZD.
+            TR = XR*AR( K, K ) - XI*AI( K, K )
+            TI = XR*AI( K, K ) + XI*AR( K, K )
             BR( K ) = TR
             BI( K ) = TI
             DO 40 I = 1, K - 1

@@ -31,6 +31,7 @@ int factor(int n, double* a, int lda, int* ipiv, int* iwl) {
         at(a, lda, p, j) = t;
       }
     const double piv = at(a, lda, k, k);
+    at(a, lda, k, k) = 1.0 / piv;
     int nl = 0;
     for (int i = k + 1; i < n; ++i)
       if (at(a, lda, i, k) != 0.0) {
@@ -66,7 +67,7 @@ void solve(int n, const double* a, int lda, const int* ipiv, double* b) {
   }
   for (int k = n - 1; k >= 0; --k) {
     if (b[k] != 0.0) {
-      b[k] = b[k] / at(a, lda, k, k);
+      b[k] = b[k] * at(a, lda, k, k);
       const double t = b[k];
       for (int i = 0; i < k; ++i) b[i] = b[i] - at(a, lda, i, k) * t;
     }
@@ -108,6 +109,8 @@ int factor_complex(int n, double* ar, double* ai, int lda, int* ipiv, int* iwl) 
       rr = q / d;
       ri = -1.0 / d;
     }
+    at(ar, lda, k, k) = rr;
+    at(ai, lda, k, k) = ri;
     int nl = 0;
     for (int i = k + 1; i < n; ++i)
       if (at(ar, lda, i, k) != 0.0 || at(ai, lda, i, k) != 0.0) {
@@ -156,19 +159,9 @@ void solve_complex(int n, const double* ar, const double* ai, int lda, const int
   for (int k = n - 1; k >= 0; --k) {
     const double xr = br[k], xi = bi[k];
     if (xr != 0.0 || xi != 0.0) {
-      const double dr = at(ar, lda, k, k), di = at(ai, lda, k, k);
-      double tr, ti;
-      if (std::abs(dr) >= std::abs(di)) {
-        const double q = di / dr;
-        const double d = dr + di * q;
-        tr = (xr + xi * q) / d;
-        ti = (xi - xr * q) / d;
-      } else {
-        const double q = dr / di;
-        const double d = di + dr * q;
-        tr = (xr * q + xi) / d;
-        ti = (xi * q - xr) / d;
-      }
+      // times the reciprocal of u(k,k) that factor_complex stored on the diagonal
+      const double tr = xr * at(ar, lda, k, k) - xi * at(ai, lda, k, k);
+      const double ti = xr * at(ai, lda, k, k) + xi * at(ar, lda, k, k);
       br[k] = tr;
       bi[k] = ti;
       for (int i = 0; i < k; ++i) {

@@ -6,7 +6,8 @@
 
 namespace pcsim::radau_lu {
 
-/// RADLUD: P A = L U of the n x n matrix a (in place). iwl: n ints of workspace.
+/// RADLUD: P A = L U of the n x n matrix a (in place; the diagonal holds 1/u_kk). iwl: n ints
+/// of workspace.
 /// Returns 0, or k > 0 if the pivot of column k is exactly zero (factorization unusable).
 int factor(int n, double* a, int lda, int* ipiv, int* iwl);
 

@@ -603,8 +603,8 @@ int Core::run(double& x, double xend, double* y, double& h) {
     ++nstep;
     const double habs = std::abs(h);
     for (int i = 0; i < n; ++i) scal_[i] = att_[i] + rtt_[i] * std::abs(y[i]);
-    for (int i = m1 + nind1; i < m1 + nind1 + s_.nind2; ++i) scal_[i] = scal_[i] / habs;
-    for (int i = m1 + nind1 + s_.nind2; i < n; ++i) scal_[i] = scal_[i] / (habs * habs);
+    for (int i = nind1; i < nind1 + s_.nind2; ++i) scal_[i] = scal_[i] / habs;
+    for (int i = nind1 + s_.nind2; i < n; ++i) scal_[i] = scal_[i] / (habs * habs);
 
     if (ksing && !checkd) {  // consistency of the algebraic equations at the start
       checkd = true;
@@ -680,19 +680,21 @@ int Core::run(double& x, double xend, double* y, double& h) {
       fcn_(&n, &xs, t1_, f3_, &ctx_, &ierr);
       ++nfcn;
       if (ierr != 0) { next = Next::f_failed; break; }
-      if (!(finite_all(n, f1_) && finite_all(n, f2_) && finite_all(n, f3_))) {
-        iwhat = 1;
-        next = Next::bad_value;
-        break;
-      }
       mass_times(w1_, z1_);
       mass_times(w2_, z2_);
       mass_times(w3_, z3_);
+      double fchk = 0.0;  // stays 0 unless some F is not finite (x - x is NaN for NaN, Inf)
       for (int i = 0; i < n; ++i) {
         const double a1 = f1_[i], a2 = f2_[i], a3 = f3_[i];
+        fchk = fchk + ((a1 - a1) + (a2 - a2) + (a3 - a3));
         f1_[i] = ti[0][0] * a1 + ti[0][1] * a2 + ti[0][2] * a3 - fac1 * z1_[i];
         f2_[i] = ti[1][0] * a1 + ti[1][1] * a2 + ti[1][2] * a3 - alphn * z2_[i] + betan * z3_[i];
         f3_[i] = ti[2][0] * a1 + ti[2][1] * a2 + ti[2][2] * a3 - betan * z2_[i] - alphn * z3_[i];
+      }
+      if (fchk != 0.0) {
+        iwhat = 1;
+        next = Next::bad_value;
+        break;
       }
       solve(fac1, alphn, betan);
       ++nsol;
@@ -967,7 +969,7 @@ int integrate(pcsim_radau_fcn fcn, pcsim_radau_jac jac, pcsim_radau_solout solou
   s.m1 = iwork[6];
   s.m2 = iwork[7] != 0 ? iwork[7] : s.m1;
   int ilapck = iwork[8];
-  if (s.nmax < 1 || s.nit < 1 || s.nind2 < 0 || s.nind3 < 0 || s.nind2 + s.nind3 > n - s.m1 ||
+  if (s.nmax < 1 || s.nit < 1 || s.nind2 < 0 || s.nind3 < 0 || s.nind2 + s.nind3 > n ||
       s.ipred < 0 || s.ipred > 1 || s.istrt < 0 || s.istrt > 1 || s.m1 < 0 || s.m2 < 0 ||
       ilapck < 0 || ilapck > 2)
     return -24;
