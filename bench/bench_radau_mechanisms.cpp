@@ -8,7 +8,12 @@
 // and prints each configuration's time as a ratio to the baseline, per kernel, with steps and
 // scd (targets of issue 14: own <= 0.6, own+M1 <= 0.35, steps and scd no worse).
 //
-//   bench_radau_mechanisms [--min-seconds S] [--markdown]
+//   bench_radau_mechanisms [--min-seconds S] [--markdown] [--lu-crossover]
+//
+// --lu-crossover times the real + complex LU pair with one solve each on DENSE random matrices
+// of order 4 .. 160, the own LU (radau_lu) against LAPACK's dgetrf/zgetrf + dgetrs/zgetrs, and
+// prints the ratio: where it passes 1 is the size above which the kernels' automatic choice
+// hands the systems to LAPACK (64; sparse iteration matrices favour the own LU far longer).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -18,7 +23,20 @@
 #include <string>
 #include <vector>
 
+#include <complex>
+#include <random>
+
 #include "../tests/radau/mechanisms.hpp"
+#include "ode/radau_lu.hpp"
+
+extern "C" {
+void dgetrf_(const int*, const int*, double*, const int*, int*, int*);
+void dgetrs_(const char*, const int*, const int*, const double*, const int*, const int*, double*,
+             const int*, int*, std::size_t);
+void zgetrf_(const int*, const int*, std::complex<double>*, const int*, int*, int*);
+void zgetrs_(const char*, const int*, const int*, const std::complex<double>*, const int*,
+             const int*, std::complex<double>*, const int*, int*, std::size_t);
+}
 
 using namespace pcsim;
 using namespace pcsim::testproblems;
@@ -52,6 +70,61 @@ struct Config {
   bool diagonal_mass;
 };
 
+int lu_crossover(double min_seconds) {
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::printf("| n | own LU pair + solves [us] | LAPACK [us] | own/LAPACK |\n|---|---|---|---|\n");
+  for (int n : {4, 8, 13, 16, 27, 32, 48, 64, 80, 96, 128, 160}) {
+    const int nn = n * n;
+    std::vector<double> a(nn), b(n), ai(nn);
+    for (double& x : a) x = u(gen);
+    for (double& x : ai) x = u(gen);
+    for (double& x : b) x = u(gen);
+    std::vector<double> w(nn), wi(nn), x(n), xi(n);
+    std::vector<std::complex<double>> z(nn), zb(n);
+    std::vector<int> ip(n), iwl(n);
+    auto own = [&] {
+      w = a;
+      wi = ai;
+      radau_lu::factor(n, w.data(), n, ip.data(), iwl.data());
+      x = b;
+      radau_lu::solve(n, w.data(), n, ip.data(), x.data());
+      w = a;
+      radau_lu::factor_complex(n, w.data(), wi.data(), n, ip.data(), iwl.data());
+      x = b;
+      xi = b;
+      radau_lu::solve_complex(n, w.data(), wi.data(), n, ip.data(), x.data(), xi.data());
+    };
+    auto lap = [&] {
+      int info = 0, one = 1;
+      w = a;
+      dgetrf_(&n, &n, w.data(), &n, ip.data(), &info);
+      x = b;
+      dgetrs_("N", &n, &one, w.data(), &n, ip.data(), x.data(), &n, &info, 1);
+      for (int k = 0; k < nn; ++k) z[k] = std::complex<double>(a[k], ai[k]);
+      zgetrf_(&n, &n, z.data(), &n, ip.data(), &info);
+      for (int k = 0; k < n; ++k) zb[k] = std::complex<double>(b[k], b[k]);
+      zgetrs_("N", &n, &one, z.data(), &n, ip.data(), zb.data(), &n, &info, 1);
+    };
+    std::vector<double> to, tl;
+    double total = 0.0;
+    while (to.size() < 20 || total < min_seconds) {
+      double c0 = thread_cpu_seconds();
+      for (int r = 0; r < 10; ++r) own();
+      const double d0 = (thread_cpu_seconds() - c0) / 10;
+      c0 = thread_cpu_seconds();
+      for (int r = 0; r < 10; ++r) lap();
+      const double d1 = (thread_cpu_seconds() - c0) / 10;
+      to.push_back(d0);
+      tl.push_back(d1);
+      total += 10 * (d0 + d1);
+    }
+    const double mo = median(to), ml = median(tl);
+    std::printf("| %d | %.2f | %.2f | %.2f |\n", n, 1e6 * mo, 1e6 * ml, mo / ml);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -62,8 +135,10 @@ int main(int argc, char** argv) {
       min_seconds = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--markdown")) {
       markdown = true;
+    } else if (!std::strcmp(argv[i], "--lu-crossover")) {
+      return lu_crossover(min_seconds);
     } else {
-      std::fprintf(stderr, "usage: %s [--min-seconds S] [--markdown]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--min-seconds S] [--markdown] [--lu-crossover]\n", argv[0]);
       return 2;
     }
   }
