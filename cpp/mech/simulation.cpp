@@ -269,6 +269,7 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   oo.h0 = options.h0;
   oo.hmax = options.hmax;
   oo.max_steps = options.max_steps;
+  oo.radau.linear_algebra = options.linear_algebra;
   const OdeResult rr = ode_integrate(
       problem, options.t0, y0, options.t_end, oo, options.method,
       [&run, &observer](StepInfo& step) { return run.on_step(step, observer); });

@@ -23,6 +23,7 @@ struct SimulationOptions {
   double t0 = 0.0, t_end = 1.0;
   OdeMethod method = OdeMethod::radau;  ///< radau, explicit_rk, or automatic (explicit, then
                                         ///< Radau where the stiffness test fires)
+  RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
   double rtol = 1e-8, atol = 1e-8;
   double h0 = 0.0;                  ///< 0: integrator default
   double hmax = 0.0;                ///< 0: integrator default

@@ -152,6 +152,13 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   method.choices = {"radau", "explicit", "auto"};
   method.string_default = "radau";
   keys.push_back(method);
+  KeySpec la = kernel;
+  la.name = "linear_algebra";
+  la.meaning = "Radau's linear algebra: the project's small-matrix LU where it is faster (auto), "
+               "always the own LU, or LAPACK (the path before issue 14)";
+  la.choices = {"auto", "own", "lapack"};
+  la.string_default = "auto";
+  keys.push_back(la);
   keys.push_back(number_key("solver", "rtol",
                             "relative tolerance; below 1e-13 the error estimates are dominated "
                             "by the rounding of double precision",
@@ -663,6 +670,10 @@ Setup setup_of(const Case& c) {
   s.kernel = *parse_kernel(t["solver"]["kernel"].value_or(std::string("fortran")));
   s.form = t["solver"]["form"].value_or(std::string("ode")) == "dae" ? mech::Form::dae : mech::Form::ode;
   s.method = *parse_ode_method(t["solver"]["method"].value_or(std::string("radau")));
+  const std::string la = t["solver"]["linear_algebra"].value_or(std::string("auto"));
+  s.linear_algebra = la == "own"      ? RadauOptions::LinearAlgebra::own_lu
+                     : la == "lapack" ? RadauOptions::LinearAlgebra::lapack
+                                      : RadauOptions::LinearAlgebra::automatic;
   s.rtol = t["solver"]["rtol"].value_or(1e-6);
   s.atol = t["solver"]["atol"].value_or(1e-8);
   s.t_end = t["solver"]["t_end"].value_or(10.0);

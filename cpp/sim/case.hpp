@@ -107,6 +107,7 @@ struct Setup {
   Kernel kernel = Kernel::fortran;
   mech::Form form = mech::Form::ode;
   OdeMethod method = OdeMethod::radau;
+  RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
   double rtol = 1e-6, atol = 1e-8, t_end = 10.0, h0 = 0.0;
   double dt = 1e-3;                     ///< time-series interval
   WindowSpec window;

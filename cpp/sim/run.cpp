@@ -92,6 +92,10 @@ class Monitor {
     const double a = std::max(v.t_prev, w0_), b = v.t;
     if (!(b > a)) return;
     constexpr int K = 4;
+    // Refinement iterations: a smooth extremum converges in 3-4 parabolic steps and stops on
+    // its bracket; a kink (the minimum of |R_s|/R_u where R_s changes sign) converges only
+    // linearly, by the bracket halvings of refine_max, and needs up to ~20 for 1e-6 of a step.
+    constexpr int kIter = 24;
     s_.resize(K + 1);
     smp_.clear();
     for (int k = 0; k <= K; ++k) {
@@ -101,9 +105,9 @@ class Monitor {
     f_.resize(K + 1);
     for (int j = 0; j < columns(); ++j) {
       for (int k = 0; k <= K; ++k) f_[k] = value(smp_[k], j);
-      refine_max_if_promising(s_, f_, [&](double x) { return value(v.at(x), j); }, maxima_[j]);
+      refine_max_if_promising(s_, f_, [&](double x) { return value(v.at(x), j); }, maxima_[j], kIter);
       for (int k = 0; k <= K; ++k) f_[k] = -f_[k];
-      refine_max_if_promising(s_, f_, [&](double x) { return -value(v.at(x), j); }, minima_[j]);
+      refine_max_if_promising(s_, f_, [&](double x) { return -value(v.at(x), j); }, minima_[j], kIter);
     }
   }
 
@@ -179,6 +183,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   so.kernel = set.kernel;
   so.form = set.form;
   so.method = set.method;
+  so.linear_algebra = set.linear_algebra;
   so.t0 = 0.0;
   so.t_end = set.t_end;
   so.rtol = set.rtol;
