@@ -262,6 +262,10 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
     problem.mass = Eigen::MatrixXd::Zero(4 * n, 4 * n);
     problem.mass.topLeftCorner(2 * n, 2 * n).setIdentity();
   }
+  // Second-order structure (RADAU5's M1, M2): q' = v in both forms and v' = a in the DAE form,
+  // so Radau's linear systems shrink to the remaining rows (n instead of 2n in the ODE form).
+  problem.second_order_count = options.form == Form::ode ? n : 2 * n;
+  problem.second_order_stride = n;
   OdeOptions oo;
   oo.kernel = options.kernel;
   oo.rtol = options.rtol;
