@@ -13,7 +13,7 @@
 
 namespace pcsim::mech {
 
-Sample StepView::at(double s) const { return impl_at_(impl_, s); }
+const Sample& StepView::sample(double s) const { return impl_at_(impl_, s); }
 
 namespace {
 
@@ -78,6 +78,12 @@ class Run {
 
   Sample sample(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     Sample out;
+    fill_sample(t, q, qd, out);
+    return out;
+  }
+
+  // The state at t with reactions and derived quantities, into `out` (its storage is reused).
+  void fill_sample(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Sample& out) {
     out.t = t;
     out.q = q;
     out.qd = qd;
@@ -93,25 +99,26 @@ class Run {
     model_.derived(t, q, qd, out.qdd, out.R, out.derived);
     out.residual_pos = sample_dyn_.position_residual(t, q);
     out.residual_vel = sample_dyn_.velocity_residual(qd);
-    return out;
   }
 
-  static Sample view_at(const void* self, double s) {
+  static const Sample& view_at(const void* self, double s) {
     const Run& run = *static_cast<const Run*>(self);
     return const_cast<Run&>(run).sample_in_step(s);
   }
 
   // Samples are cached by time within a step: observers often ask for the same instant (the
   // step end) more than once, and each sample costs a full reaction solve.
-  Sample sample_in_step(double s) {
+  const Sample& sample_in_step(double s) {
     if (step_ == nullptr || s >= step_->t || step_->t == step_->t_prev) s = current_t_;
     if (cache_valid_ && cache_.t == s) return cache_;
     if (s == current_t_) {
-      cache_ = sample(current_t_, current_q_, current_qd_);
+      fill_sample(current_t_, current_q_, current_qd_, cache_);
     } else {
       dense_.resize(ny());
       step_->dense(std::max(s, step_->t_prev), dense_.data());
-      cache_ = sample(s, dense_.head(n_), dense_.segment(n_, n_));
+      dq_ = dense_.head(n_);
+      dqd_ = dense_.segment(n_, n_);
+      fill_sample(s, dq_, dqd_, cache_);
     }
     cache_valid_ = true;
     return cache_;
@@ -196,6 +203,7 @@ class Run {
   double current_t_ = 0.0;
   Eigen::VectorXd current_q_, current_qd_;
   Sample cache_;
+  Eigen::VectorXd dq_, dqd_;
   bool cache_valid_ = false;
   double res_pos_max_ = 0.0, res_vel_max_ = 0.0;
   ModelIssue last_issue_ = ModelIssue::none;
@@ -264,8 +272,12 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   }
   // Second-order structure (RADAU5's M1, M2): q' = v in both forms and v' = a in the DAE form,
   // so Radau's linear systems shrink to the remaining rows (n instead of 2n in the ODE form).
-  problem.second_order_count = options.form == Form::ode ? n : 2 * n;
-  problem.second_order_stride = n;
+  // With linear_algebra = lapack the engine takes the path before issue 14: LAPACK's LU on the
+  // full system (no second-order structure), so earlier results are reproduced bit for bit.
+  if (options.linear_algebra != RadauOptions::LinearAlgebra::lapack) {
+    problem.second_order_count = options.form == Form::ode ? n : 2 * n;
+    problem.second_order_stride = n;
+  }
   OdeOptions oo;
   oo.kernel = options.kernel;
   oo.rtol = options.rtol;

@@ -50,11 +50,14 @@ class StepView {
   double t = 0.0;
   /// The state at s in [t_prev, t]: the integrator's dense output for q and q̇ (at s == t the
   /// accepted — and, with projection, projected — state), with q̈, R and derived computed from it.
-  Sample at(double s) const;
+  Sample at(double s) const { return sample(s); }
+  /// The same as at(s), without a copy: the reference stays valid until the next call of
+  /// sample() or at() on any view of this run (read it at once; do not keep it).
+  const Sample& sample(double s) const;
 
   // Internal: set by simulate().
   const void* impl_ = nullptr;
-  Sample (*impl_at_)(const void* impl, double s) = nullptr;
+  const Sample& (*impl_at_)(const void* impl, double s) = nullptr;
 };
 
 /// Called once at t0 (t_prev == t == t0, the consistent initial state) and after every accepted

@@ -64,11 +64,11 @@ class SieveMonitor final : public sim::ClientMonitor {
     // it the model (a roller on an endless plane) no longer describes the machine.
     const double deck = std::abs(set_.p.a);
     auto off_deck = [deck](const mech::Sample& x) { return std::abs(x.q(3)) > deck; };
-    if (off_deck(v.at(v.t))) {
+    if (off_deck(v.sample(v.t))) {
       double lo = v.t_prev, hi = v.t;
       for (int it = 0; it < 60 && hi - lo > 1e-13 * std::max(1.0, std::abs(hi)); ++it) {
         const double m = 0.5 * (lo + hi);
-        if (off_deck(v.at(m))) hi = m; else lo = m;
+        if (off_deck(v.sample(m))) hi = m; else lo = m;
       }
       stop_t_ = hi;
       stop_reason_ = "the roller left the deck at t = " + format_significant(hi, 9) +
@@ -181,7 +181,7 @@ class SieveMonitor final : public sim::ClientMonitor {
   double locate(const mech::StepView& v, double a, double b, Pred violated) const {
     for (int it = 0; it < 60 && b - a > 1e-13 * std::max(1.0, std::abs(b)); ++it) {
       const double m = 0.5 * (a + b);
-      if (violated(v.at(m))) b = m; else a = m;
+      if (violated(v.sample(m))) b = m; else a = m;
     }
     return b;
   }
@@ -212,16 +212,18 @@ class SieveMonitor final : public sim::ClientMonitor {
     for (int sig = 0; sig < sig_count; ++sig) {
       if (sig == sig_fstar && !rolling_.active) continue;
       for (int k = 0; k <= K; ++k) f[k] = signal(smp[k], sig);
-      sim::refine_max(s, f, [&](double x) { return signal(v.at(x), sig); }, maxima_[sig]);
+      sim::refine_max(s, f, [&](double x) { return signal(v.sample(x), sig); }, maxima_[sig]);
       if (sig == sig_fstar) continue;  // only the maximum of f* is reported
       for (int k = 0; k <= K; ++k) f[k] = -f[k];
-      sim::refine_max(s, f, [&](double x) { return -signal(v.at(x), sig); }, minima_[sig]);
+      sim::refine_max(s, f, [&](double x) { return -signal(v.sample(x), sig); }, minima_[sig]);
     }
     // ∫ θ over [a, b] by 3-point Gauss-Legendre: exact for polynomials of degree <= 5, and the
     // dense output of q on one step is a polynomial of degree 3 (the collocation polynomial).
     const double c = 0.5 * (a + b), hw = 0.5 * (b - a), r = std::sqrt(0.6);
-    theta_integral_ += hw * (5.0 / 9.0 * v.at(c - hw * r).q(2) + 8.0 / 9.0 * v.at(c).q(2) +
-                             5.0 / 9.0 * v.at(c + hw * r).q(2));
+    const double th0 = v.sample(c - hw * r).q(2);
+    const double th1 = v.sample(c).q(2);
+    const double th2 = v.sample(c + hw * r).q(2);
+    theta_integral_ += hw * (5.0 / 9.0 * th0 + 8.0 / 9.0 * th1 + 5.0 / 9.0 * th2);
   }
 
   SieveSettings set_;

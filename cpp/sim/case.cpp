@@ -154,8 +154,10 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   keys.push_back(method);
   KeySpec la = kernel;
   la.name = "linear_algebra";
-  la.meaning = "Radau's linear algebra: the project's small-matrix LU where it is faster (auto), "
-               "always the own LU, or LAPACK (the path before issue 14)";
+  la.meaning = "Radau's linear algebra: the project's small-matrix LU on the reduced "
+               "(second-order) systems where it is faster than LAPACK (auto), always the own LU, "
+               "or LAPACK's LU on the full system (the path before issue 14, reproducing earlier "
+               "results bit for bit)";
   la.choices = {"auto", "own", "lapack"};
   la.string_default = "auto";
   keys.push_back(la);

@@ -54,7 +54,7 @@ class Monitor {
     }
     if (v.t > w0_) window(v);
     while (csv_ && next_row_ <= last_row_ && row_time(next_row_) <= v.t * (1 + 1e-14)) {
-      add_row(v.at(std::min(std::max(row_time(next_row_), v.t_prev), v.t)));
+      add_row(v.sample(std::min(std::max(row_time(next_row_), v.t_prev), v.t)));
       ++next_row_;
     }
     return true;
@@ -97,17 +97,17 @@ class Monitor {
     // linearly, by the bracket halvings of refine_max, and needs up to ~20 for 1e-6 of a step.
     constexpr int kIter = 24;
     s_.resize(K + 1);
-    smp_.clear();
+    smp_.resize(K + 1);  // assigned in place: the samples' storage is reused
     for (int k = 0; k <= K; ++k) {
       s_[k] = (k == K) ? b : a + (b - a) * k / K;
-      smp_.push_back(v.at(s_[k]));
+      smp_[k] = v.sample(s_[k]);
     }
     f_.resize(K + 1);
     for (int j = 0; j < columns(); ++j) {
       for (int k = 0; k <= K; ++k) f_[k] = value(smp_[k], j);
-      refine_max_if_promising(s_, f_, [&](double x) { return value(v.at(x), j); }, maxima_[j], kIter);
+      refine_max_if_promising(s_, f_, [&](double x) { return value(v.sample(x), j); }, maxima_[j], kIter);
       for (int k = 0; k <= K; ++k) f_[k] = -f_[k];
-      refine_max_if_promising(s_, f_, [&](double x) { return -value(v.at(x), j); }, minima_[j], kIter);
+      refine_max_if_promising(s_, f_, [&](double x) { return -value(v.sample(x), j); }, minima_[j], kIter);
     }
   }
 
