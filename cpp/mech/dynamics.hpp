@@ -82,6 +82,7 @@ class Dynamics {
   ModelIssue factorize_mass();
   ModelIssue null_basis();
   ModelIssue solve_compatibility();
+  ModelIssue solve_compatibility_structured();
   ModelIssue solve_kkt();
   ModelIssue solve_udwadia_kalaba();
   void resize_for(int s);
@@ -96,7 +97,9 @@ class Dynamics {
   double t_ = 0.0;
   std::string message_;
 
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::LLT<Eigen::MatrixXd> llt_, llt_s_;
+  Eigen::MatrixXd S_;       // g M⁻¹ gᵀ (s x s)
+  Eigen::VectorXd lambda_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::MatrixXd MinvgT_;  // M⁻¹ gᵀ (n x s)
   Eigen::VectorXd a0_, rhs_, tmp_;

@@ -28,6 +28,9 @@ class Run {
         sample_dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
         n_(model.n()),
         s_(set_.size()),
+        method_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack
+                    ? ReactionMethod::compatibility
+                    : opt.reaction_method),
         q_(n_),
         qd_(n_),
         a_(n_),
@@ -41,7 +44,7 @@ class Run {
     qd_ = Eigen::Map<const Eigen::VectorXd>(y + n_, n_);
     ModelIssue e = dyn_.evaluate(set_, t, q_, qd_);
     if (opt_.form == Form::ode) {
-      if (e == ModelIssue::none) e = dyn_.solve(ReactionMethod::compatibility);
+      if (e == ModelIssue::none) e = dyn_.solve(method_);
       if (e != ModelIssue::none) return failed(e);
       Eigen::Map<Eigen::VectorXd>(out, n_) = qd_;
       Eigen::Map<Eigen::VectorXd>(out + n_, n_) = dyn_.qdd;
@@ -88,7 +91,7 @@ class Run {
     out.q = q;
     out.qd = qd;
     ModelIssue e = sample_dyn_.evaluate(set_, t, q, qd);
-    if (e == ModelIssue::none) e = sample_dyn_.solve(ReactionMethod::compatibility);
+    if (e == ModelIssue::none) e = sample_dyn_.solve(method_);
     if (e == ModelIssue::none) {
       out.qdd = sample_dyn_.qdd;
       out.R = sample_dyn_.R;
@@ -197,6 +200,7 @@ class Run {
   std::vector<int> active_;
   Dynamics dyn_, sample_dyn_;
   int n_, s_;
+  ReactionMethod method_;
   Eigen::VectorXd q_, qd_, a_, Rv_, dense_;
   ProjectionWork pw_;
   const StepInfo* step_ = nullptr;

@@ -24,6 +24,10 @@ struct SimulationOptions {
   OdeMethod method = OdeMethod::radau;  ///< radau, explicit_rk, or automatic (explicit, then
                                         ///< Radau where the stiffness test fires)
   RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
+  /// How the ODE form and the samples solve for R: the structured solve of the compatibility
+  /// system (default) or the paper's dense one (taken automatically with linear_algebra = lapack,
+  /// the pre-issue-14 path). The DAE form always carries [G; Dᵀ] with Huang's D.
+  ReactionMethod reaction_method = ReactionMethod::compatibility_structured;
   double rtol = 1e-8, atol = 1e-8;
   double h0 = 0.0;                  ///< 0: integrator default
   double hmax = 0.0;                ///< 0: integrator default
