@@ -95,6 +95,8 @@ constexpr double kMaxCount = 1e6;
 constexpr double kMinRtol = 1e-13;
 /// The shortest run a case may ask for, s.
 constexpr double kMinTEnd = 1e-9;
+/// The largest solver.max_steps (the default is 1e6).
+constexpr double kMaxSteps = 1e9;
 
 bool model_has_period(const ModelSource& m) {
   ParameterValues p;
@@ -171,6 +173,15 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
                             "more than a rounding error long",
                             10.0, kMinTEnd, false));
   keys.push_back(number_key("solver", "h0", "initial step, s (0: automatic)", 0.0, 0.0, false));
+  KeySpec steps;
+  steps.section = "solver";
+  steps.name = "max_steps";
+  steps.type = Type::integer;
+  steps.meaning = "the most integration steps a run may take before it fails with 'too many "
+                  "steps' (and the time reached)";
+  steps.min = 1;
+  steps.max = kMaxSteps;
+  keys.push_back(steps);
   keys.push_back(number_key("output", "dt", "output interval, s", 1e-3, 0.0, true));
   if (model_has_period(m)) {
     KeySpec sp;
@@ -595,9 +606,14 @@ Case load_case(const fs::path& file, const std::vector<Override>& overrides) {
     os << in.rdbuf();
     text = os.str();
   }
+  return load_case_text(text, file, overrides);
+}
+
+Case load_case_text(const std::string& text, const fs::path& file,
+                    const std::vector<Override>& overrides) {
   if (text.size() > kMaxCaseBytes)
-    throw InputError(file.string() + ": expected a case file of at most " +
-                     std::to_string(kMaxCaseBytes / 1000000) + " MB, got " +
+    throw InputError(where(file) + ": expected a case file of at most " +
+                     std::to_string(kMaxCaseBytes >> 20) + " MB, got " +
                      std::to_string(text.size()) + " bytes");
   check_toml_nesting(text, file);
   toml::table t;
@@ -605,7 +621,7 @@ Case load_case(const fs::path& file, const std::vector<Override>& overrides) {
     t = toml::parse(text, file.string());
   } catch (const toml::parse_error& err) {
     std::ostringstream os;
-    os << file.string() << ":" << err.source().begin.line << ":" << err.source().begin.column
+    os << where(file) << ":" << err.source().begin.line << ":" << err.source().begin.column
        << ": malformed TOML: " << err.description();
     throw InputError(os.str());
   }
@@ -680,6 +696,7 @@ Setup setup_of(const Case& c) {
   s.atol = t["solver"]["atol"].value_or(1e-8);
   s.t_end = t["solver"]["t_end"].value_or(10.0);
   s.h0 = t["solver"]["h0"].value_or(0.0);
+  s.max_steps = static_cast<long>(t["solver"]["max_steps"].value_or(int64_t{1000000}));
   s.dt = t["output"]["dt"].value_or(1e-3);
   s.period = m.period(s.parameters);
   if (auto k = t["output"]["summary_periods"].value<int64_t>()) {

@@ -74,6 +74,10 @@ Override parse_override(const std::string& text);
 /// validates every key. Throws pcsim::InputError naming the file, the key and what was expected.
 Case load_case(const std::filesystem::path& file, const std::vector<Override>& overrides = {});
 
+/// The same from the text of a case file (`file` names it in messages and anchors model paths).
+Case load_case_text(const std::string& text, const std::filesystem::path& file,
+                    const std::vector<Override>& overrides = {});
+
 /// The same from a table in memory (`source` names it in messages and anchors model paths).
 Case case_from_table(toml::table table, const std::filesystem::path& source,
                      const std::vector<Override>& overrides = {});
@@ -109,6 +113,7 @@ struct Setup {
   OdeMethod method = OdeMethod::radau;
   RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
   double rtol = 1e-6, atol = 1e-8, t_end = 10.0, h0 = 0.0;
+  long max_steps = 1000000;
   double dt = 1e-3;                     ///< time-series interval
   WindowSpec window;
   double period = std::numeric_limits<double>::quiet_NaN();  ///< excitation period, NaN if none

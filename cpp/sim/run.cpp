@@ -189,6 +189,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   so.rtol = set.rtol;
   so.atol = set.atol;
   so.h0 = set.h0;
+  so.max_steps = set.max_steps;
   so.active_constraints = set.active;
   so.stabilization = mech::Stabilization::projection;
 
