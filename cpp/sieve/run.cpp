@@ -146,7 +146,7 @@ class SieveMonitor final : public sim::ClientMonitor {
     nlohmann::json as;
     as["note"] =
         "parameters the 1995 paper does not print: the project's documented defaults "
-        "(docs/sieve.md, \"Assumptions\") unless the case file sets them";
+        "(docs/sieve-model.md, section 5) unless the case file sets them";
     as["parameters.g"] = set_.p.g;
     as["parameters.x0"] = set_.p.x0;
     as["parameters.y0"] = set_.p.y0;
