@@ -84,7 +84,7 @@ void Dynamics::resize_for(int s) {
   G0.resize(s_);
   MinvgT_.resize(n_, s_);
   S_.resize(s_, s_);
-  lambda_.resize(s_);
+  lambda.resize(s_);
 }
 
 ModelIssue Dynamics::fail(ModelIssue issue, std::string message) {
@@ -250,11 +250,11 @@ ModelIssue Dynamics::solve_compatibility_structured() {
                 "the active constraints are linearly dependent at t = " + fmt(t_) +
                     " (g M^-1 g^T is singular); check_model names them");
   }
-  lambda_ = llt_s_.solve(G0);
-  lambda_ = -lambda_;
-  R.noalias() = g.transpose() * lambda_;
+  lambda = llt_s_.solve(G0);
+  lambda = -lambda;
+  R.noalias() = g.transpose() * lambda;
   qdd = a0_;
-  qdd.noalias() += MinvgT_ * lambda_;
+  qdd.noalias() += MinvgT_ * lambda;
   return ModelIssue::none;
 }
 
@@ -308,18 +308,29 @@ ModelIssue Dynamics::solve_udwadia_kalaba() {
   return ModelIssue::none;
 }
 
+void Dynamics::lambda_from_R() {
+  if (s_ == 0) return;
+  // g gᵀ λ = g R: exact for the reactions of independent ideal constraints (R in range(gᵀ)).
+  lambda = (g * g.transpose()).ldlt().solve(g * R);
+}
+
 ModelIssue Dynamics::solve(ReactionMethod method) {
+  ModelIssue e = ModelIssue::none;
   switch (method) {
-    case ReactionMethod::compatibility:
-      return solve_compatibility();
     case ReactionMethod::compatibility_structured:
-      return solve_compatibility_structured();
+      return solve_compatibility_structured();  // λ first, then R
+    case ReactionMethod::compatibility:
+      e = solve_compatibility();
+      break;
     case ReactionMethod::kkt:
-      return solve_kkt();
+      e = solve_kkt();
+      break;
     case ReactionMethod::udwadia_kalaba:
-      return solve_udwadia_kalaba();
+      e = solve_udwadia_kalaba();
+      break;
   }
-  return ModelIssue::none;
+  if (e == ModelIssue::none) lambda_from_R();
+  return e;
 }
 
 void Dynamics::dae_residuals(const Eigen::VectorXd& a, const Eigen::VectorXd& Rv,

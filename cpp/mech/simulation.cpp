@@ -95,9 +95,11 @@ class Run {
     if (e == ModelIssue::none) {
       out.qdd = sample_dyn_.qdd;
       out.R = sample_dyn_.R;
+      out.lambda = sample_dyn_.lambda;
     } else {
       out.qdd = Eigen::VectorXd::Constant(n_, std::nan(""));
       out.R = out.qdd;
+      out.lambda = Eigen::VectorXd::Constant(s_, std::nan(""));
     }
     model_.derived(t, q, qd, out.qdd, out.R, out.derived);
     out.residual_pos = sample_dyn_.position_residual(t, q);

@@ -43,6 +43,7 @@ struct SimulationOptions {
 struct Sample {
   double t = 0.0;
   Eigen::VectorXd q, qd, qdd, R, derived;
+  Eigen::VectorXd lambda;     ///< R = gᵀ λ: one multiplier per active constraint, in row order
   double residual_pos = 0.0;  ///< max |Φ_i(q, t)| over the active holonomic constraints
   double residual_vel = 0.0;  ///< max |g q̇ + g0| over all active constraints
 };
@@ -108,6 +109,7 @@ struct ReactionResult {
   std::string message;
   Eigen::VectorXd R;    ///< generalized reaction forces (n)
   Eigen::VectorXd qdd;  ///< accelerations M⁻¹(Q − h + R)
+  Eigen::VectorXd lambda;  ///< R = gᵀ λ, one multiplier per active constraint (row order)
 };
 /// Reactions and accelerations at one state, by one of the three formulations.
 ReactionResult reactions(const Model& model, const std::vector<std::string>& active, double t,

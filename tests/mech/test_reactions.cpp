@@ -63,6 +63,9 @@ BOOST_AUTO_TEST_CASE(the_formulations_agree_at_random_states_of_every_model) {
           BOOST_REQUIRE(rs.issue == ModelIssue::none);
           BOOST_TEST(rel(rc.R, rs.R) < 1e-10);
           BOOST_TEST(rel(rc.qdd, rs.qdd) < 1e-10);
+          // The split of R by constraint, R = g^T lambda, is the same whichever way R was found.
+          BOOST_TEST(rel(rc.lambda, rs.lambda) < 1e-9);
+          BOOST_TEST(rel(rk.lambda, rs.lambda) < 1e-9);
           BOOST_REQUIRE(rc.issue == ModelIssue::none);
           BOOST_REQUIRE(rk.issue == ModelIssue::none);
           BOOST_REQUIRE(ru.issue == ModelIssue::none);
