@@ -3,7 +3,12 @@
 // ratio, and significant correct digits against the reference solutions of
 // tests/radau/problems.hpp. Not a test: run it by hand (see docs/radau-validation.md).
 //
-//   bench_radau [--markdown] [--min-seconds S] [--reference]
+//   bench_radau [--markdown] [--min-seconds S] [--reference] [--tolerance-table]
+//
+// --tolerance-table prints, for rtol = atol = 1e-2 .. 1e-12, the error reached at t_end on
+// problems with an exact solution (the index-1 DAE of problems.hpp, and the pendulum DAE
+// against its elliptic-function solution): the table of docs/radau.md that shows what RADAU5's
+// tolerance transformation rtol' = 0.1 rtol^(2/3) delivers.
 //
 // --reference prints the computed reference of van der Pol y(0) = (2, -0.66) (rtol = atol =
 // 1e-13, both kernels) that problems.hpp stores, and the published-reference check of that
@@ -98,6 +103,28 @@ int reference_mode() {
   return 0;
 }
 
+int tolerance_table() {
+  const ReferenceProblem dae = index1_dae();
+  ReferenceProblem pend = pendulum_dae();
+  const PendulumParameters P;
+  const Eigen::Matrix<double, 5, 1> pex = pendulum_cartesian(P, pendulum_exact(P, pend.t_end));
+  pend.y_ref = pex;
+  std::printf("| rtol = atol | rtol' (kernel) | index-1 DAE: max rel. error at t = 3 | steps | "
+              "pendulum DAE: max rel. error of (x, y, vx, vy) at t = 5 | steps |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (int e = 2; e <= 12; ++e) {
+    const double tol = std::pow(10.0, -e);
+    RadauOptions o;
+    o.rtol = o.atol = tol;
+    const RadauResult a = radau_integrate(dae.problem, dae.t0, dae.y0, dae.t_end, o);
+    const RadauResult b = radau_integrate(pend.problem, pend.t0, pend.y0, pend.t_end, o);
+    const double eb = max_relative_error(b.y.head(4), pend.y_ref.head(4));
+    std::printf("| 1e-%d | %.1e | %.1e | %ld | %.1e | %ld |\n", e, transformed_rtol(tol),
+                max_relative_error(a.y, dae.y_ref), a.stats.steps, eb, b.stats.steps);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -110,8 +137,10 @@ int main(int argc, char** argv) {
       min_seconds = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--reference")) {
       return reference_mode();
+    } else if (!std::strcmp(argv[i], "--tolerance-table")) {
+      return tolerance_table();
     } else {
-      std::fprintf(stderr, "usage: %s [--markdown] [--min-seconds S] [--reference]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--markdown] [--min-seconds S] [--reference] [--tolerance-table]\n", argv[0]);
       return 2;
     }
   }

@@ -18,13 +18,15 @@
 #include <vector>
 
 #include "mech/simulation.hpp"
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
+#include "sieve/source.hpp"
 #include "sieve/model.hpp"
-#include "sieve/run.hpp"
+#include "sim/run.hpp"
 #include "sieve/settings.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;
+using namespace pcsim::sim;
 
 namespace {
 
@@ -50,6 +52,7 @@ int main(int argc, char** argv) {
   const std::string file =
       argc > 1 ? argv[1] : std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml";
   const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
+  pcsim::sieve::register_sieve();
   const Case base = load_case(file);
   std::printf("bench_sieve: %s, t_end = %g s, best of %d (thread CPU time)\n\n", file.c_str(),
               settings_from_case(base).solver.t_end, repeats);
@@ -119,7 +122,7 @@ int main(int argc, char** argv) {
     ModelForm mf;
   };
   std::vector<Config> configs;
-  const ModelForm def = RunOptions{}.model_form;  // the default path: AD closed form
+  const ModelForm def = ModelForm::closed_form;  // the default path: AD closed form
   for (Kernel k : {Kernel::fortran, Kernel::cpp})
     for (Form fm : {Form::ode, Form::dae}) configs.push_back({k, fm, def});
   configs.push_back({Kernel::fortran, Form::ode, ModelForm::geometric});
@@ -136,7 +139,7 @@ int main(int argc, char** argv) {
       Row r;
       r.label = std::string(to_string(k)) + " / " + to_string(fm) + " / " + to_string(cf.mf);
       RunOptions ro;
-      ro.model_form = cf.mf;
+      ro.variant = to_string(cf.mf);
       nlohmann::json s;
       r.run = min_time(repeats, [&] { s = run_case(c, ro); });
       r.steps = s["stats"]["steps"];

@@ -11,18 +11,18 @@
 #include <thread>
 #include <vector>
 
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
 #include "study/sweep.hpp"
 #include "study/vary.hpp"
 
 int main(int argc, char** argv) {
   using namespace pcsim::study;
-  std::vector<pcsim::sieve::Override> overrides;
+  std::vector<pcsim::sim::Override> overrides;
   if (argc > 1) overrides.push_back({"solver.t_end", argv[1]});
-  const auto base = pcsim::sieve::load_case(
+  const auto base = pcsim::sim::load_case(
       std::filesystem::path(PCSIM_SOURCE_DIR) / "cases" / "sieve_1995.toml", overrides);
   const std::string t_end =
-      format_number(base.table.at_path("solver.t_end").value<double>().value_or(0.0));
+      pcsim::format_number(base.table.at_path("solver.t_end").value<double>().value_or(0.0));
   const Grid grid = make_grid({"parameters.omega=250:320:8", "initial.s0=-0.35:0.35:8"}, base);
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const auto scratch = std::filesystem::temp_directory_path() / "pcsim_bench_study";

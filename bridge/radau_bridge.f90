@@ -32,6 +32,14 @@ module pcsim_radau_bridge
       type(c_ptr), intent(in) :: ctx
       integer(c_int), intent(out) :: ierr
     end subroutine radau_jac_iface
+    subroutine radau_gfcn_iface(n, t, y, ng, g, ctx, ierr) bind(C)
+      import :: c_int, c_double, c_ptr
+      integer(c_int), intent(in) :: n, ng
+      real(c_double), intent(in) :: t, y(*)
+      real(c_double), intent(out) :: g(*)
+      type(c_ptr), intent(in) :: ctx
+      integer(c_int), intent(out) :: ierr
+    end subroutine radau_gfcn_iface
     subroutine radau_solout_iface(n, told, t, y, cont, ldc, ctx, irtrn) bind(C)
       import :: c_int, c_double, c_ptr
       integer(c_int), intent(in) :: n, ldc
@@ -57,12 +65,12 @@ module pcsim_radau_bridge
 
 contains
 
-  recursive subroutine pcsim_radau_integrate(fcn, jac, solout, ctx, ijac, imas, itol, iout, n, t, tend, &
-                                   y, h, rtol, atol, am, ldm, work, lwork, zwork, lzwork, &
-                                   iwork, liwork, idid) bind(C, name="pcsim_radau_integrate")
-    type(c_funptr), value, intent(in) :: fcn, jac, solout
+  recursive subroutine pcsim_radau_integrate(fcn, jac, solout, gfcn, ctx, ijac, imas, itol, iout, &
+                                   ng, n, t, tend, y, h, rtol, atol, am, ldm, work, lwork, zwork, &
+                                   lzwork, iwork, liwork, idid) bind(C, name="pcsim_radau_integrate")
+    type(c_funptr), value, intent(in) :: fcn, jac, solout, gfcn
     type(c_ptr), value, intent(in) :: ctx
-    integer(c_int), value, intent(in) :: ijac, imas, itol, iout, n, ldm, lwork, lzwork, liwork
+    integer(c_int), value, intent(in) :: ijac, imas, itol, iout, ng, n, ldm, lwork, lzwork, liwork
     real(c_double), value, intent(in) :: tend
     real(c_double), intent(inout) :: t, h
     real(c_double), intent(inout) :: y(*)
@@ -74,13 +82,15 @@ contains
     procedure(radau_fcn_iface), pointer :: pfcn
     procedure(radau_jac_iface), pointer :: pjac
     procedure(radau_solout_iface), pointer :: psol
+    procedure(radau_gfcn_iface), pointer :: pg
     type(c_ptr) :: ctx_ref
     call c_f_procpointer(fcn, pfcn)
     call c_f_procpointer(jac, pjac)
     call c_f_procpointer(solout, psol)
+    call c_f_procpointer(gfcn, pg)
     ctx_ref = ctx
-    call radiia(pfcn, pjac, psol, ctx_ref, ijac, imas, itol, iout, n, t, tend, y, h, rtol, &
-                atol, am, ldm, work, lwork, zwork, lzwork, iwork, liwork, idid)
+    call radiia(pfcn, pjac, psol, pg, ctx_ref, ijac, imas, itol, iout, ng, n, t, tend, y, h, &
+                rtol, atol, am, ldm, work, lwork, zwork, lzwork, iwork, liwork, idid)
   end subroutine pcsim_radau_integrate
 
   recursive subroutine pcsim_radau_dense(n, t, told, tnew, cont, ldc, yout, info) &

@@ -1,5 +1,16 @@
 # Component huang: the modified Huang (ABS) solver, Fortran kernel + bridge + C++ port.
 pcsim_component(NAME common CXX cpp/common/*.cpp LINKS Eigen3::Eigen)
+# The build's version string (project version + git commit), regenerated at every build.
+set(_pcsim_version_cpp "${CMAKE_BINARY_DIR}/generated/pcsim_version.cpp")
+add_custom_target(pcsim_version_source
+  COMMAND ${CMAKE_COMMAND} -DVERSION=${PROJECT_VERSION} -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
+          -DOUT=${_pcsim_version_cpp} -P ${PROJECT_SOURCE_DIR}/cmake/version.cmake
+  BYPRODUCTS ${_pcsim_version_cpp}
+  COMMENT "pcsim version string")
+execute_process(COMMAND ${CMAKE_COMMAND} -DVERSION=${PROJECT_VERSION} -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
+                -DOUT=${_pcsim_version_cpp} -P ${PROJECT_SOURCE_DIR}/cmake/version.cmake)
+target_sources(pcsim_common PRIVATE ${_pcsim_version_cpp})
+add_dependencies(pcsim_common pcsim_version_source)
 pcsim_component(NAME huang
   FORTRAN fortran/huang*.f
   BRIDGE  bridge/huang*.f90

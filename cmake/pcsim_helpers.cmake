@@ -21,8 +21,11 @@ function(pcsim_component)
   set_target_properties(pcsim_${C_NAME} PROPERTIES
     Fortran_MODULE_DIRECTORY "${CMAKE_BINARY_DIR}/mod/${C_NAME}"
     LINKER_LANGUAGE CXX)
+  # Source-tree include directories for the build only; an installed component's headers are
+  # under include/pcsim (see the install rules in cmake/radau.cmake).
   target_include_directories(pcsim_${C_NAME} PUBLIC
-    "${PROJECT_SOURCE_DIR}/cpp" "${PROJECT_SOURCE_DIR}/bridge" "${CMAKE_BINARY_DIR}/mod/${C_NAME}")
+    "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/cpp>" "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/bridge>"
+    "$<BUILD_INTERFACE:${CMAKE_BINARY_DIR}/mod/${C_NAME}>" "$<INSTALL_INTERFACE:include/pcsim>")
   target_link_libraries(pcsim_${C_NAME} PUBLIC ${C_LINKS})
 endfunction()
 

@@ -10,6 +10,7 @@ PACKAGES=(
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   gnuplot-nox
   libnlopt-cxx-dev
+  clang libclang-rt-14-dev
   libginac-dev
   libopenmpi-dev openmpi-bin
 )

@@ -12,7 +12,8 @@
 
 #include "cli/commands.hpp"
 #include "common/error.hpp"
-#include "sieve/case.hpp"
+#include "common/files.hpp"
+#include "sim/case.hpp"
 #include "study/optimize.hpp"
 #include "study/table.hpp"
 #include "study/vary.hpp"
@@ -23,7 +24,7 @@ struct OptimizeArgs {
   std::string case_file;
   std::vector<std::string> vary;
   std::vector<std::string> set;
-  std::string objective = "contact_margin";
+  std::string objective;
   bool minimize = false;
   std::vector<std::string> constraints;
   bool no_default_constraints = false;
@@ -32,13 +33,13 @@ struct OptimizeArgs {
   std::string out;
 };
 
-std::string num(double v) { return std::isnan(v) ? "nan" : pcsim::study::format_number(v); }
+std::string num(double v) { return std::isnan(v) ? "nan" : pcsim::format_number(v); }
 
 void run_optimize(const OptimizeArgs& a) {
   namespace st = pcsim::study;
-  std::vector<pcsim::sieve::Override> overrides;
-  for (const auto& s : a.set) overrides.push_back(pcsim::sieve::parse_override(s));
-  const pcsim::sieve::Case base = pcsim::sieve::load_case(a.case_file, overrides);
+  std::vector<pcsim::sim::Override> overrides;
+  for (const auto& s : a.set) overrides.push_back(pcsim::sim::parse_override(s));
+  const pcsim::sim::Case base = pcsim::sim::load_case(a.case_file, overrides);
   std::vector<st::Bounds> bounds;
   std::vector<std::string> keys;
   for (const auto& v : a.vary) {
@@ -47,11 +48,15 @@ void run_optimize(const OptimizeArgs& a) {
   }
   st::check_distinct_keys(keys);
   st::OptimizeOptions o;
-  st::check_objective_name(a.objective);
-  o.objective = a.objective;
+  o.objective = a.objective.empty() ? st::default_objective(base) : a.objective;
+  if (o.objective.empty())
+    throw pcsim::InputError("--objective: required for the " + base.model->origin() +
+                            " (a sweep.csv summary column, e.g. " +
+                            st::summary_columns(base).front() + ")");
+  st::check_objective_name(o.objective, base);
   o.maximize = !a.minimize;
-  if (a.no_default_constraints) o.constraints.clear();
-  for (const auto& c : a.constraints) o.constraints.push_back(st::parse_constraint(c));
+  o.constraints = a.no_default_constraints ? std::vector<st::Constraint>{} : st::default_constraints(base);
+  for (const auto& c : a.constraints) o.constraints.push_back(st::parse_constraint(c, base));
   o.seed = a.seed;
   if (a.max_evals < 1) throw pcsim::InputError("--max-evals must be at least 1");
   o.max_evals = a.max_evals;
@@ -107,7 +112,11 @@ void run_optimize(const OptimizeArgs& a) {
   std::printf("  %s=%s (start: %s)\n", o.objective.c_str(), num(best.objective).c_str(),
               num(result.evaluations.front().objective).c_str());
   const auto best_file = out / "best.toml";
-  std::ofstream(best_file) << pcsim::sieve::to_toml(result.best_case);
+  // The best design is a case of its own: its own name, so running it does not overwrite the
+  // original case's output directory.
+  pcsim::sim::Case best_case = result.best_case;
+  best_case.name = base.name + "-optimized";
+  pcsim::write_file_atomically(best_file, pcsim::sim::to_toml(best_case, "best design of pcsim optimize " + base.name));
   std::printf("  history: %s\n  best case: %s  (pcsim run %s)\n",
               (out / "optimize.csv").string().c_str(), best_file.string().c_str(),
               best_file.string().c_str());
@@ -126,11 +135,12 @@ void setup(CLI::App& app) {
   sub->add_option("--set", args->set, "KEY=VALUE override applied to every run")
       ->allow_extra_args(false);
   sub->add_option("--objective", args->objective,
-                  "Summary quantity to maximize (a sweep.csv column; default contact_margin)");
+                  "Summary quantity to maximize (a sweep.csv column; default for the sieve: "
+                  "contact_margin; required for other models)");
   sub->add_flag("--minimize", args->minimize, "Minimize the objective instead");
   sub->add_option("--constraint", args->constraints,
-                  "'NAME>=VALUE' or 'NAME<=VALUE' on a summary quantity (repeatable; added to "
-                  "the defaults rolling_margin>=0.2, amplitude.theta<=0.001, "
+                  "'NAME>=VALUE' or 'NAME<=VALUE' on a summary quantity (repeatable; for the "
+                  "sieve added to the defaults rolling_margin>=0.2, amplitude.theta<=0.001, "
                   "amplitude.x>=2e-05, amplitude.x<=0.0001)")
       ->allow_extra_args(false);
   sub->add_flag("--no-default-constraints", args->no_default_constraints,

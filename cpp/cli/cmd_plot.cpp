@@ -1,13 +1,16 @@
-// `pcsim plot DIR`: PNG figures of a `pcsim run` output directory with gnuplot: theta(t),
-// R_u(t) with 0 marked, f*(t) with f marked, x(t) and y(t); each with the whole run above and
-// the summary window (shaded in the upper panel) below.
+// `pcsim plot DIR`: PNG figures of a `pcsim run` output directory with gnuplot. The sieve:
+// theta(t), R_u(t) with 0 marked, f*(t) with f marked, x(t) and y(t). Any other model: its
+// coordinates, its non-zero reactions and its outputs (at most six curves per figure). Each
+// figure shows the whole run, and below it the summary window when that is part of the run.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <map>
+#include <set>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -82,9 +85,7 @@ void plot(const std::string& dir_text) {
     std::string name;
     for (int i = 1; std::getline(hs, name, ','); ++i) col[name] = i;
   }
-  for (const char* need : {"t", "x", "y", "theta", "R_u", "fstar"})
-    if (!col.count(need))
-      throw pcsim::InputError(csv.string() + ": header has no column '" + need + "'");
+  if (!col.count("t")) throw pcsim::InputError(csv.string() + ": header has no column 't'");
   if (!on_path("gnuplot"))
     throw pcsim::InputError(
         "pcsim plot needs gnuplot, which is not on PATH: install it (Debian: apt-get install "
@@ -92,20 +93,68 @@ void plot(const std::string& dir_text) {
 
   const double w0 = s.at("window").at(0).get<double>(), w1 = s.at("window").at(1).get<double>();
   const std::string name = s.value("case", std::string("case"));
-  double f = 0;
-  bool have_f = false;
-  if (s.contains("assumptions") && s["assumptions"].contains("parameters.f")) {
-    f = s["assumptions"]["parameters.f"].get<double>();
-    have_f = true;
-  }
   std::vector<Figure> figs;
-  figs.push_back({"theta.png", "Desk rotation theta(t)", "theta [rad]", {{"theta", "theta"}}, "", 0, false});
-  figs.push_back({"R_u.png", "Normal contact force R_u(t); (3.1) contact kept while R_u > 0",
-                  "R_u [N]", {{"R_u", "R_u"}}, "R_u = 0 (contact lost)", 0, true});
-  figs.push_back({"fstar.png", "Friction ratio f*(t) = |R_s|/R_u; (3.2) rolling kept while f* < f",
-                  "f* [-]", {{"fstar", "f*"}}, "f (friction coefficient)", f, have_f, false});
-  figs.push_back({"xy.png", "Desk displacement x(t) (vertical) and y(t) (horizontal)",
-                  "displacement [m]", {{"x", "x"}, {"y", "y"}}, "", 0, false});
+  const bool sieve = s.value("model", std::string()) == "sieve";
+  if (sieve) {
+    for (const char* need : {"x", "y", "theta", "R_u", "fstar"})
+      if (!col.count(need))
+        throw pcsim::InputError(csv.string() + ": header has no column '" + need + "'");
+    double f = 0;
+    bool have_f = false;
+    if (s.contains("assumptions") && s["assumptions"].contains("parameters.f")) {
+      f = s["assumptions"]["parameters.f"].get<double>();
+      have_f = true;
+    }
+    figs.push_back({"theta.png", "Desk rotation theta(t)", "theta [rad]", {{"theta", "theta"}}, "", 0, false});
+    figs.push_back({"R_u.png", "Normal contact force R_u(t); (3.1) contact kept while R_u > 0",
+                    "R_u [N]", {{"R_u", "R_u"}}, "R_u = 0 (contact lost)", 0, true});
+    figs.push_back({"fstar.png", "Friction ratio f*(t) = |R_s|/R_u; (3.2) rolling kept while f* < f",
+                    "f* [-]", {{"fstar", "f*"}}, "f (friction coefficient)", f, have_f, false});
+    figs.push_back({"xy.png", "Desk displacement x(t) (vertical) and y(t) (horizontal)",
+                    "displacement [m]", {{"x", "x"}, {"y", "y"}}, "", 0, false});
+  } else {
+    // Any model: the coordinates, the reactions that are not identically zero, and the
+    // outputs, at most kPerFigure curves per figure (numbered figures beyond that).
+    constexpr std::size_t kPerFigure = 6;
+    std::vector<std::string> coords, reactions, outputs;
+    const auto& ex = s.at("extremes");
+    std::vector<std::pair<int, std::string>> ordered;
+    for (const auto& [cname, idx] : col) ordered.push_back({idx, cname});
+    std::sort(ordered.begin(), ordered.end());
+    std::set<std::string> coordinate_names;
+    for (const auto& [idx, cname] : ordered)
+      if (cname.rfind("R_", 0) == 0) coordinate_names.insert(cname.substr(2));
+    for (const auto& [idx, cname] : ordered) {
+      if (cname == "t" || cname == "residual_pos" || cname == "residual_vel") continue;
+      if (coordinate_names.count(cname)) coords.push_back(cname);
+      else if (cname.rfind("R_", 0) == 0) {
+        const bool zero = ex.contains(cname) && ex[cname]["min"].is_number() &&
+                          ex[cname]["min"].get<double>() == 0.0 && ex[cname]["max"].get<double>() == 0.0;
+        if (!zero) reactions.push_back(cname);
+      } else if (cname.size() > 2 && cname.compare(cname.size() - 2, 2, "_d") == 0 &&
+                 coordinate_names.count(cname.substr(0, cname.size() - 2))) {
+        continue;  // velocities: in the time series, not plotted by default
+      } else {
+        outputs.push_back(cname);
+      }
+    }
+    auto add = [&](const std::vector<std::string>& names, const std::string& stem,
+                   const std::string& title, const std::string& ylabel) {
+      for (std::size_t start = 0; start < names.size(); start += kPerFigure) {
+        Figure fig;
+        const std::size_t part = start / kPerFigure + 1;
+        fig.file = stem + (names.size() > kPerFigure ? "_" + std::to_string(part) : "") + ".png";
+        fig.title = title;
+        fig.ylabel = ylabel;
+        for (std::size_t k = start; k < std::min(names.size(), start + kPerFigure); ++k)
+          fig.curves.push_back({names[k], names[k]});
+        figs.push_back(fig);
+      }
+    };
+    add(coords, "coordinates", "Coordinates q(t)", "q");
+    add(reactions, "reactions", "Reaction forces R(t) (generalized, by coordinate)", "R");
+    add(outputs, "outputs", "Outputs", "value");
+  }
 
   std::ostringstream g;
   g << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -118,15 +167,21 @@ void plot(const std::string& dir_text) {
        "set offsets 0, 0, graph 0.3, graph 0.05\n";
   for (const auto& fig : figs) {
     g << "set output " << quoted((dir / fig.file).string()) << "\n";
-    g << "set multiplot layout 2,1 title " << quoted(name + ": " + fig.title) << "\n";
-    for (int panel = 0; panel < 2; ++panel) {
+    // Two panels (whole run above, summary window below) when the window is part of the run.
+    const int panels = w0 > 0 ? 2 : 1;
+    g << "set multiplot layout " << panels << ",1 title " << quoted(name + ": " + fig.title) << "\n";
+    for (int panel = 0; panel < panels; ++panel) {
       g << "unset object 1\nunset arrow 1\n";
       if (panel == 0) {
-        g << "set title 'whole run (shaded: summary window)'\n";
-        g << "set object 1 rect from " << w0 << ", graph 0 to " << w1
-          << ", graph 1 fc rgb '#ffd080' fs solid 0.6 noborder behind\n";
-        g << "set arrow 1 from " << w0 << ", graph 0 to " << w0
-          << ", graph 1 nohead lc rgb '#e08000' lw 1.5 dt 3\n";
+        if (panels == 2) {
+          g << "set title 'whole run (shaded: summary window)'\n";
+          g << "set object 1 rect from " << w0 << ", graph 0 to " << w1
+            << ", graph 1 fc rgb '#ffd080' fs solid 0.6 noborder behind\n";
+          g << "set arrow 1 from " << w0 << ", graph 0 to " << w0
+            << ", graph 1 nohead lc rgb '#e08000' lw 1.5 dt 3\n";
+        } else {
+          g << "set title 'whole run (the summary window)'\n";
+        }
         g << "set xrange [*:*]\n";
       } else {
         char title[128];
@@ -175,7 +230,8 @@ void plot(const std::string& dir_text) {
 void setup(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   CLI::App* sub = app.add_subcommand(
-      "plot", "PNG figures (gnuplot) of a `pcsim run` output directory: theta, R_u, f*, x and y");
+      "plot", "PNG figures (gnuplot) of a `pcsim run` output directory: for the sieve theta, R_u, "
+              "f*, x and y; for any other model its coordinates, reactions and outputs");
   sub->add_option("dir", *dir, "the output directory of `pcsim run`, e.g. out/sieve_1995")
       ->required();
   sub->callback([dir]() { plot(*dir); });

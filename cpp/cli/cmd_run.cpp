@@ -11,33 +11,38 @@
 
 #include "cli/commands.hpp"
 #include "common/error.hpp"
-#include "sieve/case.hpp"
-#include "sieve/run.hpp"
+#include "sim/case.hpp"
+#include "sim/run.hpp"
 
 namespace {
 
 struct RunArgs {
   std::string case_file;
   std::vector<std::string> sets;
+  std::vector<std::string> added;
   std::string out_dir;
   std::string kernel;
   std::string form;
 };
 
 void run(const RunArgs& a) {
-  if (!std::filesystem::exists(a.case_file))
-    throw pcsim::InputError(a.case_file + ": no such case file");
-  std::vector<pcsim::sieve::Override> overrides;
-  for (const auto& s : a.sets) overrides.push_back(pcsim::sieve::parse_override(s));
+  std::vector<pcsim::sim::Override> overrides;
+  for (const auto& s : a.sets) overrides.push_back(pcsim::sim::parse_override(s));
+  // --constraint NAME=EXPR adds a holonomic constraint: the same as
+  // --set constraints.added.NAME="EXPR".
+  for (const auto& s : a.added) {
+    const pcsim::sim::Override o = pcsim::sim::parse_override(s);
+    overrides.emplace_back("constraints.added." + o.first, o.second);
+  }
   // --kernel and --form are the same as --set solver.kernel=... / solver.form=... and win.
   if (!a.kernel.empty()) overrides.emplace_back("solver.kernel", a.kernel);
   if (!a.form.empty()) overrides.emplace_back("solver.form", a.form);
-  const pcsim::sieve::Case c = pcsim::sieve::load_case(a.case_file, overrides);
-  pcsim::sieve::RunOptions options;
+  const pcsim::sim::Case c = pcsim::sim::load_case(a.case_file, overrides);
+  pcsim::sim::RunOptions options;
   options.out_dir = a.out_dir.empty() ? std::filesystem::path("out") / c.name
                                       : std::filesystem::path(a.out_dir);
-  const nlohmann::json summary = pcsim::sieve::run_case(c, options);
-  std::fputs(pcsim::sieve::human_report(c, summary).c_str(), stdout);
+  const nlohmann::json summary = pcsim::sim::run_case(c, options);
+  std::fputs(pcsim::sim::human_report(c, summary).c_str(), stdout);
   std::printf("  wrote %s and %s\n", (*options.out_dir / "summary.json").string().c_str(),
               (*options.out_dir / "timeseries.csv").string().c_str());
 }
@@ -54,6 +59,12 @@ void setup(CLI::App& app) {
                   "(repeatable)")
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false);  // one KEY=VALUE per --set, so the case file can follow
+  sub->add_option("--constraint", args->added,
+                  "add a holonomic constraint Phi(q, t) = 0 to a model-file model, e.g. "
+                  "--constraint 'hold=s - 0.4' (repeatable; the same as --set "
+                  "constraints.added.NAME=EXPR)")
+      ->type_name("NAME=EXPR")
+      ->allow_extra_args(false);
   sub->add_option("--out", args->out_dir, "output directory (default: out/<case name>)")
       ->type_name("DIR");
   sub->add_option("--kernel", args->kernel, "numerical kernels: fortran or cpp (solver.kernel)")

@@ -8,7 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "common/error.hpp"
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
 #include "study/cluster.hpp"
 #include "study/incline.hpp"
 #include "study/progress.hpp"
@@ -23,12 +23,20 @@ struct InclineArgs {
   unsigned jobs = 0;
   std::string out;
   bool no_plot = false;
+  bool restart = false;
 };
 
 void run_incline(const InclineArgs& a) {
-  std::vector<pcsim::sieve::Override> overrides;
-  for (const auto& s : a.set) overrides.push_back(pcsim::sieve::parse_override(s));
-  const pcsim::sieve::Case base = pcsim::sieve::load_case(a.case_file, overrides);
+  std::vector<pcsim::sim::Override> overrides;
+  for (const auto& s : a.set) {
+    overrides.push_back(pcsim::sim::parse_override(s));
+    if (overrides.back().first == "constraints.lock_theta")
+      throw pcsim::InputError("--set " + s + ": the incline study sets constraints.lock_theta "
+                              "itself (every design point runs with theta free and locked); "
+                              "remove the override");
+  }
+  const pcsim::sim::Case base = pcsim::sim::load_case(a.case_file, overrides);
+  pcsim::study::check_incline_case(base);
   std::vector<pcsim::study::Axis> axes;
   if (a.vary.empty()) {
     axes.push_back(pcsim::study::default_incline_axis(base));
@@ -50,6 +58,7 @@ void run_incline(const InclineArgs& a) {
   options.progress = pcsim::study::stderr_is_terminal();
   options.cluster = &cluster;
   options.plot = !a.no_plot;
+  options.restart = a.restart;
   const auto r = pcsim::study::run_incline_study(base, axes, pcsim::study::case_runner(), options);
   if (!r.ok) throw pcsim::InputError(r.error);
   if (cluster.rank() != 0) return;
@@ -81,6 +90,9 @@ void setup(CLI::App& app) {
   inc->add_option("--jobs,-j", args->jobs, "Threads (per MPI rank); default: all cores");
   inc->add_option("--out", args->out, "Output directory (default out/<case>-incline)");
   inc->add_flag("--no-plot", args->no_plot, "Write the table only");
+  inc->add_flag("--restart", args->restart,
+                "Discard the rows of an earlier study of another case in --out and compute "
+                "every point");
   inc->callback([args] { run_incline(*args); });
 }
 

@@ -7,7 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "common/error.hpp"
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
 #include "study/cluster.hpp"
 #include "study/progress.hpp"
 #include "study/sweep.hpp"
@@ -20,13 +20,14 @@ struct SweepArgs {
   std::vector<std::string> vary;
   std::vector<std::string> set;
   unsigned jobs = 0;
+  bool restart = false;
   std::string out;
 };
 
 void run(const SweepArgs& a) {
-  std::vector<pcsim::sieve::Override> overrides;
-  for (const auto& s : a.set) overrides.push_back(pcsim::sieve::parse_override(s));
-  const pcsim::sieve::Case base = pcsim::sieve::load_case(a.case_file, overrides);
+  std::vector<pcsim::sim::Override> overrides;
+  for (const auto& s : a.set) overrides.push_back(pcsim::sim::parse_override(s));
+  const pcsim::sim::Case base = pcsim::sim::load_case(a.case_file, overrides);
   // Every specification is checked before MPI starts and before any point runs.
   const pcsim::study::Grid grid = pcsim::study::make_grid(a.vary, base);
 
@@ -36,6 +37,7 @@ void run(const SweepArgs& a) {
   options.jobs = a.jobs;
   options.progress = pcsim::study::stderr_is_terminal();
   options.cluster = &cluster;
+  options.restart = a.restart;
   const auto report =
       pcsim::study::run_sweep(base, grid, pcsim::study::case_runner(), options);
   if (!report.ok) throw pcsim::InputError(report.error);
@@ -66,6 +68,9 @@ void setup(CLI::App& app) {
   sub->add_option("--set", args->set, "KEY=VALUE override applied to every point")
       ->allow_extra_args(false);
   sub->add_option("--jobs,-j", args->jobs, "Threads (per MPI rank); default: all cores");
+  sub->add_flag("--restart", args->restart,
+                "Discard the rows of an earlier sweep of another case in --out and compute every "
+                "point (without it such a sweep is refused)");
   sub->add_option("--out", args->out, "Output directory (default out/<case>-sweep)");
   sub->callback([args] { run(*args); });
 }

@@ -9,6 +9,8 @@
 
 #include "cli/commands.hpp"
 #include "common/error.hpp"
+#include "common/files.hpp"
+#include "sieve/source.hpp"
 
 namespace pcsim::cli {
 
@@ -31,6 +33,7 @@ int main(int argc, char** argv) {
       "pcsim: constrained mechanical systems by the principle of compatibility, with the "
       "reaction forces computed directly"};
   app.require_subcommand(1);
+  pcsim::sieve::register_sieve();
   app.set_version_flag("--version", "pcsim 0.1.0");
   auto commands = pcsim::cli::registry();
   std::stable_sort(commands.begin(), commands.end(),

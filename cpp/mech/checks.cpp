@@ -221,6 +221,7 @@ ReactionResult reactions(const Model& model, const std::vector<std::string>& act
   }
   out.R = dyn.R;
   out.qdd = dyn.qdd;
+  out.lambda = dyn.lambda;
   return out;
 }
 

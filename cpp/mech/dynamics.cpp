@@ -58,8 +58,9 @@ Dynamics::Dynamics(const Model& model, Kernel kernel, Stabilization stabilizatio
       alpha_(alpha),
       beta_(beta),
       n_(model.n()),
-      llt_(model.n()),  // constructed in place: assigning a fresh LLT would copy its
-      lu_(model.n()) {  // uninitialized info flag (UBSan)
+      llt_(model.n()),    // constructed in place: assigning a fresh LLT would copy its
+      llt_s_(model.n()),  // uninitialized info flag (UBSan)
+      lu_(model.n()) {
   M.resize(n_, n_);
   A.resize(n_, n_);
   h.resize(n_);
@@ -82,6 +83,8 @@ void Dynamics::resize_for(int s) {
   gamma.resize(s_);
   G0.resize(s_);
   MinvgT_.resize(n_, s_);
+  S_.resize(s_, s_);
+  lambda.resize(s_);
 }
 
 ModelIssue Dynamics::fail(ModelIssue issue, std::string message) {
@@ -221,6 +224,40 @@ ModelIssue Dynamics::solve_compatibility() {
   return ModelIssue::none;
 }
 
+ModelIssue Dynamics::solve_compatibility_structured() {
+  // [G; Dᵀ] R = [−G0; 0] with the columns of D spanning null(g): Dᵀ R = 0 says R is orthogonal
+  // to null(g), i.e. R = gᵀ λ for some λ, and then G R = g M⁻¹ gᵀ λ = −G0. The same R as the
+  // dense solve, without forming D (test_reactions proves the two equal).
+  if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
+  a0_ = llt_.solve(f);
+  if (s_ == 0) {
+    R.setZero();
+    qdd = a0_;
+    return ModelIssue::none;
+  }
+  MinvgT_ = llt_.solve(g.transpose());
+  G0.noalias() = g * a0_;
+  G0 += gamma;
+  S_.noalias() = g * MinvgT_;
+  llt_s_.compute(S_);
+  bool ok = llt_s_.info() == Eigen::Success;
+  if (ok) {
+    const auto d = llt_s_.matrixLLT().diagonal().cwiseAbs2();
+    ok = d.minCoeff() > 1e-13 * d.maxCoeff();  // rank-deficient g: dependent constraints
+  }
+  if (!ok) {
+    return fail(ModelIssue::dependent_constraints,
+                "the active constraints are linearly dependent at t = " + fmt(t_) +
+                    " (g M^-1 g^T is singular); check_model names them");
+  }
+  lambda = llt_s_.solve(G0);
+  lambda = -lambda;
+  R.noalias() = g.transpose() * lambda;
+  qdd = a0_;
+  qdd.noalias() += MinvgT_ * lambda;
+  return ModelIssue::none;
+}
+
 ModelIssue Dynamics::solve_kkt() {
   // [M  gᵀ] [q̈]   [ f ]
   // [g  0 ] [μ ] = [−γ ],   R = −gᵀμ (μ = −λ): the Lagrange-multiplier formulation.
@@ -271,16 +308,29 @@ ModelIssue Dynamics::solve_udwadia_kalaba() {
   return ModelIssue::none;
 }
 
+void Dynamics::lambda_from_R() {
+  if (s_ == 0) return;
+  // g gᵀ λ = g R: exact for the reactions of independent ideal constraints (R in range(gᵀ)).
+  lambda = (g * g.transpose()).ldlt().solve(g * R);
+}
+
 ModelIssue Dynamics::solve(ReactionMethod method) {
+  ModelIssue e = ModelIssue::none;
   switch (method) {
+    case ReactionMethod::compatibility_structured:
+      return solve_compatibility_structured();  // λ first, then R
     case ReactionMethod::compatibility:
-      return solve_compatibility();
+      e = solve_compatibility();
+      break;
     case ReactionMethod::kkt:
-      return solve_kkt();
+      e = solve_kkt();
+      break;
     case ReactionMethod::udwadia_kalaba:
-      return solve_udwadia_kalaba();
+      e = solve_udwadia_kalaba();
+      break;
   }
-  return ModelIssue::none;
+  if (e == ModelIssue::none) lambda_from_R();
+  return e;
 }
 
 void Dynamics::dae_residuals(const Eigen::VectorXd& a, const Eigen::VectorXd& Rv,

@@ -74,14 +74,17 @@ class Dynamics {
   const Model& model() const { return *model_; }
 
   // Results of the last evaluate() / solve(), readable by the caller (g, G: s x n; D: n x (n-s)).
+  // lambda (s): the reaction split by constraint, R = gᵀ λ, so constraint r's own generalized
+  // reaction is λ_r g_rᵀ (the sieve's contact force without a holding constraint's share).
   Eigen::MatrixXd M, g, D, G, A;
-  Eigen::VectorXd h, Q, f, g0, gamma, G0, R, qdd;
+  Eigen::VectorXd h, Q, f, g0, gamma, G0, R, qdd, lambda;
 
  private:
   ModelIssue fail(ModelIssue issue, std::string message);
   ModelIssue factorize_mass();
   ModelIssue null_basis();
   ModelIssue solve_compatibility();
+  ModelIssue solve_compatibility_structured();
   ModelIssue solve_kkt();
   ModelIssue solve_udwadia_kalaba();
   void resize_for(int s);
@@ -96,7 +99,9 @@ class Dynamics {
   double t_ = 0.0;
   std::string message_;
 
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::LLT<Eigen::MatrixXd> llt_, llt_s_;
+  Eigen::MatrixXd S_;       // g M⁻¹ gᵀ (s x s)
+  void lambda_from_R();     // λ from R = gᵀ λ (the dense methods)
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::MatrixXd MinvgT_;  // M⁻¹ gᵀ (n x s)
   Eigen::VectorXd a0_, rhs_, tmp_;

@@ -26,6 +26,9 @@ struct ConstraintInfo {
   /// run instead of once per right-hand side. The engine verifies the promise at the initial
   /// state and at a perturbed state before integrating.
   bool constant_row = false;
+  /// Whether a case imposes the constraint unless it says otherwise (a model may offer
+  /// constraints that are off by default, e.g. a variant or a deliberate redundancy).
+  bool active_by_default = true;
 };
 
 // ---- What a model author writes ---------------------------------------------------------------

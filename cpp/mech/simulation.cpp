@@ -9,10 +9,11 @@
 
 #include "mech/dynamics.hpp"
 #include "mech/projection.hpp"
+#include "ode/integrate.hpp"
 
 namespace pcsim::mech {
 
-Sample StepView::at(double s) const { return impl_at_(impl_, s); }
+const Sample& StepView::sample(double s) const { return impl_at_(impl_, s); }
 
 namespace {
 
@@ -27,6 +28,9 @@ class Run {
         sample_dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
         n_(model.n()),
         s_(set_.size()),
+        method_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack
+                    ? ReactionMethod::compatibility
+                    : opt.reaction_method),
         q_(n_),
         qd_(n_),
         a_(n_),
@@ -40,7 +44,7 @@ class Run {
     qd_ = Eigen::Map<const Eigen::VectorXd>(y + n_, n_);
     ModelIssue e = dyn_.evaluate(set_, t, q_, qd_);
     if (opt_.form == Form::ode) {
-      if (e == ModelIssue::none) e = dyn_.solve(ReactionMethod::compatibility);
+      if (e == ModelIssue::none) e = dyn_.solve(method_);
       if (e != ModelIssue::none) return failed(e);
       Eigen::Map<Eigen::VectorXd>(out, n_) = qd_;
       Eigen::Map<Eigen::VectorXd>(out + n_, n_) = dyn_.qdd;
@@ -77,40 +81,49 @@ class Run {
 
   Sample sample(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     Sample out;
+    fill_sample(t, q, qd, out);
+    return out;
+  }
+
+  // The state at t with reactions and derived quantities, into `out` (its storage is reused).
+  void fill_sample(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Sample& out) {
     out.t = t;
     out.q = q;
     out.qd = qd;
     ModelIssue e = sample_dyn_.evaluate(set_, t, q, qd);
-    if (e == ModelIssue::none) e = sample_dyn_.solve(ReactionMethod::compatibility);
+    if (e == ModelIssue::none) e = sample_dyn_.solve(method_);
     if (e == ModelIssue::none) {
       out.qdd = sample_dyn_.qdd;
       out.R = sample_dyn_.R;
+      out.lambda = sample_dyn_.lambda;
     } else {
       out.qdd = Eigen::VectorXd::Constant(n_, std::nan(""));
       out.R = out.qdd;
+      out.lambda = Eigen::VectorXd::Constant(s_, std::nan(""));
     }
     model_.derived(t, q, qd, out.qdd, out.R, out.derived);
     out.residual_pos = sample_dyn_.position_residual(t, q);
     out.residual_vel = sample_dyn_.velocity_residual(qd);
-    return out;
   }
 
-  static Sample view_at(const void* self, double s) {
+  static const Sample& view_at(const void* self, double s) {
     const Run& run = *static_cast<const Run*>(self);
     return const_cast<Run&>(run).sample_in_step(s);
   }
 
   // Samples are cached by time within a step: observers often ask for the same instant (the
   // step end) more than once, and each sample costs a full reaction solve.
-  Sample sample_in_step(double s) {
+  const Sample& sample_in_step(double s) {
     if (step_ == nullptr || s >= step_->t || step_->t == step_->t_prev) s = current_t_;
     if (cache_valid_ && cache_.t == s) return cache_;
     if (s == current_t_) {
-      cache_ = sample(current_t_, current_q_, current_qd_);
+      fill_sample(current_t_, current_q_, current_qd_, cache_);
     } else {
       dense_.resize(ny());
       step_->dense(std::max(s, step_->t_prev), dense_.data());
-      cache_ = sample(s, dense_.head(n_), dense_.segment(n_, n_));
+      dq_ = dense_.head(n_);
+      dqd_ = dense_.segment(n_, n_);
+      fill_sample(s, dq_, dqd_, cache_);
     }
     cache_valid_ = true;
     return cache_;
@@ -189,12 +202,14 @@ class Run {
   std::vector<int> active_;
   Dynamics dyn_, sample_dyn_;
   int n_, s_;
+  ReactionMethod method_;
   Eigen::VectorXd q_, qd_, a_, Rv_, dense_;
   ProjectionWork pw_;
   const StepInfo* step_ = nullptr;
   double current_t_ = 0.0;
   Eigen::VectorXd current_q_, current_qd_;
   Sample cache_;
+  Eigen::VectorXd dq_, dqd_;
   bool cache_valid_ = false;
   double res_pos_max_ = 0.0, res_vel_max_ = 0.0;
   ModelIssue last_issue_ = ModelIssue::none;
@@ -261,23 +276,41 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
     problem.mass = Eigen::MatrixXd::Zero(4 * n, 4 * n);
     problem.mass.topLeftCorner(2 * n, 2 * n).setIdentity();
   }
-  RadauOptions ro;
-  ro.kernel = options.kernel;
-  ro.rtol = options.rtol;
-  ro.atol = options.atol;
-  ro.h0 = options.h0;
-  ro.hmax = options.hmax;
-  ro.max_steps = options.max_steps;
-  const RadauResult rr = radau_integrate(
-      problem, options.t0, y0, options.t_end, ro,
+  // Second-order structure (RADAU5's M1, M2): q' = v in both forms and v' = a in the DAE form,
+  // so Radau's linear systems shrink to the remaining rows (n instead of 2n in the ODE form).
+  // With linear_algebra = lapack the engine takes the path before issue 14: LAPACK's LU on the
+  // full system (no second-order structure), so earlier results are reproduced bit for bit.
+  if (options.linear_algebra != RadauOptions::LinearAlgebra::lapack) {
+    problem.second_order_count = options.form == Form::ode ? n : 2 * n;
+    problem.second_order_stride = n;
+  }
+  OdeOptions oo;
+  oo.kernel = options.kernel;
+  oo.rtol = options.rtol;
+  oo.atol = options.atol;
+  oo.h0 = options.h0;
+  oo.hmax = options.hmax;
+  oo.max_steps = options.max_steps;
+  oo.radau.linear_algebra = options.linear_algebra;
+  const OdeResult rr = ode_integrate(
+      problem, options.t0, y0, options.t_end, oo, options.method,
       [&run, &observer](StepInfo& step) { return run.on_step(step, observer); });
 
   result.integrator_status = rr.status;
-  result.status = rr.status == RadauStatus::success               ? SimulationStatus::success
-                  : rr.status == RadauStatus::stopped_by_callback ? SimulationStatus::stopped_by_observer
-                                                                  : SimulationStatus::integration_failed;
+  result.status = rr.status == OdeStatus::success               ? SimulationStatus::success
+                  : rr.status == OdeStatus::stopped_by_callback ? SimulationStatus::stopped_by_observer
+                                                                : SimulationStatus::integration_failed;
   result.t = rr.t;
-  result.stats = rr.stats;
+  result.stats.f_evals = rr.f_evals;
+  result.stats.steps = rr.steps;
+  result.stats.accepted = rr.accepted;
+  result.stats.rejected = rr.rejected;
+  result.stats.jacobians = rr.radau_stats.jacobians;
+  result.stats.lu_decompositions = rr.radau_stats.lu_decompositions;
+  result.stats.linear_solves = rr.radau_stats.linear_solves;
+  result.used_explicit = rr.used_explicit;
+  result.used_radau = rr.used_radau;
+  result.switch_time = rr.switch_time;
   result.message = rr.message;
   result.q_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.head(n)) : q;
   result.qd_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.segment(n, n)) : qd;
@@ -290,7 +323,7 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   } else if (!run.observer_error_.empty()) {
     result.status = SimulationStatus::observer_error;
     result.message = run.observer_error_;
-  } else if (rr.status != RadauStatus::success && rr.status != RadauStatus::stopped_by_callback &&
+  } else if (rr.status != OdeStatus::success && rr.status != OdeStatus::stopped_by_callback &&
              run.last_issue_ != ModelIssue::none) {
     result.status = SimulationStatus::model_failed;
     result.issue = run.last_issue_;

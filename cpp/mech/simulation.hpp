@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "common/kernel.hpp"
 #include "mech/model.hpp"
 #include "mech/status.hpp"
+#include "ode/integrate.hpp"
 #include "ode/radau.hpp"
 
 namespace pcsim::mech {
@@ -19,6 +21,13 @@ struct SimulationOptions {
   Kernel kernel = Kernel::fortran;  ///< Huang and Radau kernel path
   Form form = Form::ode;
   double t0 = 0.0, t_end = 1.0;
+  OdeMethod method = OdeMethod::radau;  ///< radau, explicit_rk, or automatic (explicit, then
+                                        ///< Radau where the stiffness test fires)
+  RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
+  /// How the ODE form and the samples solve for R: the structured solve of the compatibility
+  /// system (default) or the paper's dense one (taken automatically with linear_algebra = lapack,
+  /// the pre-issue-14 path). The DAE form always carries [G; Dᵀ] with Huang's D.
+  ReactionMethod reaction_method = ReactionMethod::compatibility_structured;
   double rtol = 1e-8, atol = 1e-8;
   double h0 = 0.0;                  ///< 0: integrator default
   double hmax = 0.0;                ///< 0: integrator default
@@ -34,6 +43,7 @@ struct SimulationOptions {
 struct Sample {
   double t = 0.0;
   Eigen::VectorXd q, qd, qdd, R, derived;
+  Eigen::VectorXd lambda;     ///< R = gᵀ λ: one multiplier per active constraint, in row order
   double residual_pos = 0.0;  ///< max |Φ_i(q, t)| over the active holonomic constraints
   double residual_vel = 0.0;  ///< max |g q̇ + g0| over all active constraints
 };
@@ -45,11 +55,14 @@ class StepView {
   double t = 0.0;
   /// The state at s in [t_prev, t]: the integrator's dense output for q and q̇ (at s == t the
   /// accepted — and, with projection, projected — state), with q̈, R and derived computed from it.
-  Sample at(double s) const;
+  Sample at(double s) const { return sample(s); }
+  /// The same as at(s), without a copy: the reference stays valid until the next call of
+  /// sample() or at() on any view of this run (read it at once; do not keep it).
+  const Sample& sample(double s) const;
 
   // Internal: set by simulate().
   const void* impl_ = nullptr;
-  Sample (*impl_at_)(const void* impl, double s) = nullptr;
+  const Sample& (*impl_at_)(const void* impl, double s) = nullptr;
 };
 
 /// Called once at t0 (t_prev == t == t0, the consistent initial state) and after every accepted
@@ -58,11 +71,13 @@ using StepObserver = std::function<bool(const StepView&)>;
 
 struct SimulationResult {
   SimulationStatus status = SimulationStatus::invalid_model;
-  RadauStatus integrator_status = RadauStatus::bad_input;  ///< the integrator's own status
+  OdeStatus integrator_status = OdeStatus::bad_input;  ///< the integrator's own status
   ModelIssue issue = ModelIssue::none;  ///< the cause when the model or constraints are bad
   std::string message;                  ///< human-readable reason on failure (names things)
   double t = 0.0;                       ///< time reached
-  RadauStats stats;
+  RadauStats stats;                     ///< totals over the methods used
+  bool used_explicit = false, used_radau = false;  ///< which methods took steps
+  double switch_time = std::numeric_limits<double>::quiet_NaN();  ///< automatic: where Radau took over
   double initial_correction_pos = 0.0;  ///< |Δq|₂ of the consistent-initial-value projection
   double initial_correction_vel = 0.0;  ///< |Δq̇|₂
   double residual_pos_max = 0.0;        ///< over the accepted steps (after projection if on)
@@ -94,6 +109,7 @@ struct ReactionResult {
   std::string message;
   Eigen::VectorXd R;    ///< generalized reaction forces (n)
   Eigen::VectorXd qdd;  ///< accelerations M⁻¹(Q − h + R)
+  Eigen::VectorXd lambda;  ///< R = gᵀ λ, one multiplier per active constraint (row order)
 };
 /// Reactions and accelerations at one state, by one of the three formulations.
 ReactionResult reactions(const Model& model, const std::vector<std::string>& active, double t,

@@ -19,7 +19,11 @@ enum class Stabilization {
 };
 
 enum class ReactionMethod {
-  compatibility,    ///< [G; Dᵀ] R = [−G0; 0], D from the Huang kernel (the paper's method)
+  compatibility,    ///< [G; Dᵀ] R = [−G0; 0], D from the Huang kernel (the paper's method),
+                    ///< solved as one dense n x n system
+  compatibility_structured,  ///< the same system solved through its structure: D spans null(g),
+                             ///< so Dᵀ R = 0 means R = gᵀ λ, and G R = −G0 becomes the s x s
+                             ///< system (g M⁻¹ gᵀ) λ = −G0 (no D, no n x n LU; same R)
   kkt,              ///< Lagrange multipliers: R = gᵀλ, (g M⁻¹ gᵀ) λ = −G0
   udwadia_kalaba,   ///< R = M^{1/2} (g M^{-1/2})⁺ (−G0)
 };

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <complex>
 #include <exception>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,19 +17,6 @@
 #include "pcsim_kernels.h"
 
 namespace pcsim {
-
-const char* to_string(RadauStatus status) {
-  switch (status) {
-    case RadauStatus::success: return "success";
-    case RadauStatus::stopped_by_callback: return "stopped_by_callback";
-    case RadauStatus::bad_input: return "bad_input";
-    case RadauStatus::too_many_steps: return "too_many_steps";
-    case RadauStatus::step_too_small: return "step_too_small";
-    case RadauStatus::singular_matrix: return "singular_matrix";
-    case RadauStatus::callback_error: return "callback_error";
-  }
-  return "unknown";
-}
 
 void StepInfo::dense(double s, double* out) const { impl_dense_(impl_, s, out); }
 double StepInfo::dense(int i, double s) const { return impl_dense1_(impl_, i, s); }
@@ -106,15 +94,16 @@ extern "C" void radau_jac_trampoline(const int* n, const double* t, const double
                                      const int* ldj, void* const* ctx, int* ierr) {
   auto* c = static_cast<CallContext*>(*ctx);
   try {
+    bool ok = true;
     if (*ldj == *n) {
-      c->problem->jacobian(*t, y, dfdy);
+      ok = c->problem->jacobian(*t, y, dfdy);
     } else {  // never with the kernels (ldj = n); kept correct for any leading dimension
       std::vector<double> tmp(std::size_t(*n) * std::size_t(*n));
-      c->problem->jacobian(*t, y, tmp.data());
+      ok = c->problem->jacobian(*t, y, tmp.data());
       for (int j = 0; j < *n; ++j)
         for (int i = 0; i < *n; ++i) dfdy[i + std::size_t(*ldj) * j] = tmp[i + std::size_t(*n) * j];
     }
-    *ierr = 0;
+    *ierr = ok ? 0 : 1;
   } catch (...) {
     record_error(c, "the Jacobian", *t);
     *ierr = 2;
@@ -148,10 +137,26 @@ extern "C" void radau_solout_trampoline(const int* n, const double* told, const 
   }
 }
 
+extern "C" void radau_gfcn_trampoline(const int* /*n*/, const double* t, const double* y,
+                                      const int* /*ng*/, double* g, void* const* ctx, int* ierr) {
+  auto* c = static_cast<CallContext*>(*ctx);
+  try {
+    c->problem->events(*t, y, g);
+    *ierr = 0;
+  } catch (...) {
+    record_error(c, "the event functions", *t);
+    *ierr = 2;
+  }
+}
+
 // Stubs for callbacks the kernel never calls (jac with ijac = 0, solout with iout = 0): the
 // bridge needs valid procedure pointers.
 extern "C" void radau_jac_unused(const int*, const double*, const double*, double*, const int*,
                                  void* const*, int* ierr) {
+  *ierr = 3;
+}
+extern "C" void radau_gfcn_unused(const int*, const double*, const double*, const int*,
+                                   double*, void* const*, int* ierr) {
   *ierr = 3;
 }
 extern "C" void radau_solout_unused(const int*, const double*, const double*, double*,
@@ -166,10 +171,11 @@ std::string at_time(double t) {
   return s.str();
 }
 
-RadauResult bad(const std::string& why) {
+RadauResult bad(const std::string& why, OdeStatus status = OdeStatus::bad_input) {
   RadauResult r;
-  r.status = RadauStatus::bad_input;
-  r.message = "radau: bad input: " + why;
+  r.status = status;
+  r.message = std::string("radau: ") +
+              (status == OdeStatus::bad_input ? "bad input: " : "tolerance too small: ") + why;
   return r;
 }
 
@@ -208,12 +214,17 @@ RadauResult radau_integrate(const OdeProblem& problem, double t0, const Eigen::V
     rtol = Eigen::VectorXd::Constant(1, options.rtol);
     atol = Eigen::VectorXd::Constant(1, options.atol);
   }
+  const double uround =
+      options.unit_roundoff > 0.0 ? options.unit_roundoff : std::numeric_limits<double>::epsilon();
   for (Eigen::Index i = 0; i < rtol.size(); ++i)
-    if (!(rtol[i] > 0.0) || !std::isfinite(rtol[i]))
-      return bad("relative tolerances must be finite and > 0");
+    if (!(rtol[i] >= 10.0 * uround) || !std::isfinite(rtol[i]))
+      return bad("relative tolerances must be finite and >= 10 unit roundoffs (" +
+                     at_time(10.0 * uround) + "), got " + at_time(rtol[i]),
+                 OdeStatus::tolerance_too_small);
   for (Eigen::Index i = 0; i < atol.size(); ++i)
     if (!(atol[i] > 0.0) || !std::isfinite(atol[i]))
-      return bad("absolute tolerances must be finite and > 0");
+      return bad("absolute tolerances must be finite and > 0, got " + at_time(atol[i]),
+                 OdeStatus::tolerance_too_small);
   if (!(options.h0 >= 0.0) || !std::isfinite(options.h0)) return bad("h0 must be >= 0");
   if (!(options.hmax >= 0.0) || !std::isfinite(options.hmax)) return bad("hmax must be >= 0");
   if (!(options.fixed_step >= 0.0) || !std::isfinite(options.fixed_step))
@@ -221,28 +232,81 @@ RadauResult radau_integrate(const OdeProblem& problem, double t0, const Eigen::V
   if (options.max_steps <= 0) return bad("max_steps must be > 0");
   if (options.max_newton <= 0) return bad("max_newton must be > 0");
 
+  const int m1 = problem.second_order_count;
+  const int m2 = problem.second_order_stride != 0 ? problem.second_order_stride : m1;
+  if (m1 < 0 || m2 < 0 || (m1 > 0 && (m1 % m2 != 0 || m1 + m2 > n)))
+    return bad("second_order_count m1 = " + std::to_string(m1) + ", stride m2 = " +
+               std::to_string(m2) + ": expected m1 a multiple of m2 and m1 + m2 <= n");
+  const int ng = problem.event_count;
+  if (ng < 0) return bad("event_count must be >= 0");
+  if (ng > 0 && !problem.events) return bad("event_count > 0 but no event functions given");
+  if (!problem.event_direction.empty() &&
+      static_cast<int>(problem.event_direction.size()) != ng)
+    return bad("event_direction must be empty or have event_count entries");
+  for (int d : problem.event_direction)
+    if (d < -1 || d > 1) return bad("event_direction entries must be -1, 0 or +1");
+
+  // ---- The mass matrix as the kernels take it: identity, diagonal or full, below the m1
+  // second-order rows (whose block must be the identity, decoupled from the rest).
+  int imas = 0;
+  Eigen::MatrixXd am_full;
+  Eigen::VectorXd am_diag;
+  if (problem.mass.size() != 0) {
+    const Eigen::MatrixXd& K = problem.mass;
+    if (m1 > 0) {
+      if (!K.topLeftCorner(m1, m1).isIdentity(0.0) || !K.topRightCorner(m1, n - m1).isZero(0.0) ||
+          !K.bottomLeftCorner(n - m1, m1).isZero(0.0))
+        return bad("with second_order_count m1 > 0 the first m1 rows and columns of the mass "
+                   "matrix must be those of the identity");
+    }
+    const Eigen::MatrixXd low = K.bottomRightCorner(n - m1, n - m1);
+    Eigen::MatrixXd off = low;
+    off.diagonal().setZero();
+    if (options.diagonal_mass && off.isZero(0.0)) {
+      imas = 2;
+      am_diag = low.diagonal();
+    } else {
+      imas = 1;
+      am_full = low;
+    }
+  }
+
   // ---- Work arrays (layout: fortran/radau.f, RADIIA).
-  const int lwork = 20 + 19 * n + 2 * n * n;
+  const int lwork = 20 + 23 * n + 4 * n * n + 4 * ng;
   const int lzwork = n * n + n;
-  const int liwork = 20 + 2 * n;
+  const int liwork = 30 + 3 * n + 2 * ng;
   std::vector<double> work(std::size_t(lwork), 0.0);
   std::vector<std::complex<double>> zwork(static_cast<std::size_t>(lzwork));
   std::vector<int> iwork(std::size_t(liwork), 0);
   work[0] = options.hmax;
   work[1] = options.fixed_step;
+  work[2] = options.safety;
+  work[3] = options.jacobian_reuse;
+  work[4] = options.newton_tol;
+  work[5] = options.keep_step_low;
+  work[6] = options.keep_step_high;
+  work[7] = options.max_step_growth > 0.0 ? options.max_step_growth : 0.0;
+  work[8] = options.max_step_shrink;
+  work[9] = options.unit_roundoff;
   iwork[0] = options.max_steps > INT_MAX ? INT_MAX : int(options.max_steps);
   iwork[1] = options.max_newton;
   iwork[2] = problem.index2_count;
   iwork[3] = problem.index3_count;
   iwork[4] = options.gustafsson ? 0 : 1;
+  iwork[6] = m1;
+  iwork[7] = m2;
+  iwork[8] = options.linear_algebra == RadauOptions::LinearAlgebra::automatic ? 0
+             : options.linear_algebra == RadauOptions::LinearAlgebra::own_lu  ? 1
+                                                                              : 2;
+  for (int i = 0; i < ng && !problem.event_direction.empty(); ++i)
+    iwork[30 + i] = problem.event_direction[i];
 
   const int ijac = problem.jacobian ? 1 : 0;
-  const int imas = problem.mass.size() != 0 ? 1 : 0;
   const int itol = vec_tol ? 1 : 0;
   const int iout = on_step ? 1 : 0;
   const double one = 1.0;
-  const double* am = imas ? problem.mass.data() : &one;
-  const int ldm = imas ? n : 1;
+  const double* am = imas == 1 ? am_full.data() : imas == 2 ? am_diag.data() : &one;
+  const int ldm = imas == 1 ? n - m1 : 1;
 
   CallContext ctx;
   ctx.problem = &problem;
@@ -250,6 +314,7 @@ RadauResult radau_integrate(const OdeProblem& problem, double t0, const Eigen::V
   ctx.kernel = options.kernel;
   pcsim_radau_jac jac = ijac ? &radau_jac_trampoline : &radau_jac_unused;
   pcsim_radau_solout sol = iout ? &radau_solout_trampoline : &radau_solout_unused;
+  pcsim_radau_gfcn gf = ng > 0 ? &radau_gfcn_trampoline : &radau_gfcn_unused;
 
   RadauResult r;
   r.y = y0;
@@ -257,15 +322,16 @@ RadauResult radau_integrate(const OdeProblem& problem, double t0, const Eigen::V
   double h = options.h0;
   int idid = 0;
   if (options.kernel == Kernel::fortran) {
-    pcsim_radau_integrate(&radau_fcn_trampoline, jac, sol, &ctx, ijac, imas, itol, iout, n, &t,
-                          t_end, r.y.data(), &h, rtol.data(), atol.data(), am, ldm, work.data(),
-                          lwork, reinterpret_cast<double*>(zwork.data()), lzwork, iwork.data(),
-                          liwork, &idid);
+    pcsim_radau_integrate(&radau_fcn_trampoline, jac, sol, gf, &ctx, ijac, imas, itol, iout, ng,
+                          n, &t, t_end, r.y.data(), &h, rtol.data(), atol.data(), am, ldm,
+                          work.data(), lwork, reinterpret_cast<double*>(zwork.data()), lzwork,
+                          iwork.data(), liwork, &idid);
   } else {
-    idid = radau_port::integrate(&radau_fcn_trampoline, jac, sol, &ctx, ijac, imas, itol, iout,
-                                 n, &t, t_end, r.y.data(), &h, rtol.data(), atol.data(), am, ldm,
-                                 work.data(), lwork, reinterpret_cast<double*>(zwork.data()),
-                                 lzwork, iwork.data(), liwork);
+    idid = radau_port::integrate(&radau_fcn_trampoline, jac, sol, gf, &ctx, ijac, imas, itol,
+                                 iout, ng, n, &t, t_end, r.y.data(), &h, rtol.data(), atol.data(),
+                                 am, ldm, work.data(), lwork,
+                                 reinterpret_cast<double*>(zwork.data()), lzwork, iwork.data(),
+                                 liwork);
   }
 
   r.t = t;
@@ -277,41 +343,86 @@ RadauResult radau_integrate(const OdeProblem& problem, double t0, const Eigen::V
   r.stats.steps = iwork[14];
   r.stats.accepted = iwork[15];
   r.stats.rejected = iwork[16];
+  r.stats.singular_matrices = iwork[17];
+  r.stats.f_evals_jacobian = iwork[18];
+  r.stats.error_test_rejections = iwork[19];
+  r.stats.newton_rejections = iwork[20];
+  r.stats.evaluation_rejections = iwork[21];
+  r.stats.event_evals = iwork[22];
 
   const std::string where = std::string("radau (") + to_string(options.kernel) + ")";
-  switch (idid) {
-    case 0: r.status = RadauStatus::success; break;
-    case 1:
-      r.status = RadauStatus::stopped_by_callback;
-      r.message = where + ": stopped by the step callback at t = " + at_time(t);
+  const std::string at = " at t = " + at_time(t);
+  r.status = ode_status_from_idid(idid);
+  switch (r.status) {
+    case OdeStatus::success: break;
+    case OdeStatus::stopped_by_callback:
+      r.message = where + ": stopped by the step callback" + at;
       break;
-    case 2:
-      r.status = RadauStatus::too_many_steps;
-      r.message = where + ": more than " + std::to_string(iwork[0]) + " steps, at t = " +
-                  at_time(t);
+    case OdeStatus::root_found: {
+      r.root_directions.assign(iwork.begin() + 30 + ng, iwork.begin() + 30 + 2 * ng);
+      std::string which;
+      for (int i = 0; i < ng; ++i)
+        if (r.root_directions[i] != 0)
+          which += (which.empty() ? "" : ", ") + std::string("g") + std::to_string(i) +
+                   (r.root_directions[i] > 0 ? " (increasing)" : " (decreasing)");
+      r.message = where + ": event function root" + at + ": " + which;
       break;
-    case 3:
-      r.status = RadauStatus::step_too_small;
+    }
+    case OdeStatus::too_many_steps:
+      r.message = where + ": more than " + std::to_string(iwork[0]) + " steps" + at;
+      break;
+    case OdeStatus::step_too_small:
+      r.message = where + ": step size too small (error test)" + at + " (h = " + at_time(h) + ")";
+      break;
+    case OdeStatus::newton_failure:
       r.message = where + (options.fixed_step > 0.0
                                ? ": Newton iteration did not converge with the fixed step"
-                               : ": step size too small") +
-                  " at t = " + at_time(t) + " (h = " + at_time(h) + ")";
+                               : ": Newton iteration failed repeatedly as h shrank") +
+                  at + " (h = " + at_time(h) + ")";
       break;
-    case 4:
-      r.status = RadauStatus::singular_matrix;
-      r.message = where + ": iteration matrix repeatedly singular at t = " + at_time(t);
+    case OdeStatus::singular_matrix:
+      r.message = where + ": iteration matrix repeatedly singular" + at;
       break;
-    case 5:
-      r.status = RadauStatus::callback_error;
+    case OdeStatus::non_finite: {
+      const int what = iwork[23];
       r.message = where + ": " +
-                  (ctx.error.empty()
-                       ? "the right-hand side could not be evaluated at the accepted state t = " +
-                             at_time(t)
-                       : ctx.error);
+                  (what == 1   ? std::string("the right-hand side")
+                   : what == 2 ? std::string("the Jacobian")
+                               : std::string("the Newton increment or the error estimate")) +
+                  " was not finite (NaN or Inf)" + at +
+                  (what == 2 ? "" : ", also after reducing the step size");
+      break;
+    }
+    case OdeStatus::rhs_failed:
+      r.message = where + ": the right-hand side could not be evaluated" + at +
+                  " (at the accepted state, or repeatedly as h shrank)";
+      break;
+    case OdeStatus::jacobian_failed:
+      r.message = where + ": the Jacobian callback reported failure" + at;
+      break;
+    case OdeStatus::callback_error:
+      r.message = where + ": " + (ctx.error.empty() ? "a callback failed" + at : ctx.error);
+      break;
+    case OdeStatus::tolerance_too_small:
+      r.message = where + ": tolerance too small or not > 0";
+      break;
+    case OdeStatus::inconsistent_start:
+      r.message = where + ": inconsistent initial values" + at +
+                  ": the algebraic equations do not hold within the tolerance (correct the "
+                  "algebraic variables of y0)";
+      break;
+    case OdeStatus::missing_index_counts:
+      r.message = where + ": the first step failed" + at +
+                  " with a singular mass matrix and no index-2/3 counts: the index counts "
+                  "(index2_count, index3_count) may be missing";
+      break;
+    case OdeStatus::bad_input:
+      r.message = where + ": argument " + std::to_string(-idid) + " of the kernel is invalid" +
+                  (idid == -24 && m1 > 0 ? " (or f does not return f_i = y_{i+m2} for i < m1)"
+                                         : "");
       break;
     default:
-      r.status = RadauStatus::bad_input;
-      r.message = where + ": argument " + std::to_string(-idid) + " of the kernel is invalid";
+      r.message = where + ": " + meaning(r.status) + at;
       break;
   }
   return r;

@@ -16,13 +16,43 @@
 
 #include <functional>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
 
 #include "common/kernel.hpp"
+#include "ode/status.hpp"
 
 namespace pcsim {
+
+/// A Jacobian callback: bool(t, y, dfdy) (false = failed), built from any callable returning
+/// bool or void (void: always succeeds), so older void-returning Jacobians still compile.
+class JacobianCallback {
+ public:
+  JacobianCallback() = default;
+  JacobianCallback(std::nullptr_t) {}
+  template <class F, class = std::enable_if_t<
+                         !std::is_same_v<std::decay_t<F>, JacobianCallback> &&
+                         std::is_invocable_v<F&, double, const double*, double*>>>
+  JacobianCallback(F f) {  // NOLINT: implicit on purpose
+    using R = std::invoke_result_t<F&, double, const double*, double*>;
+    if constexpr (std::is_void_v<R>) {
+      fn_ = [g = std::move(f)](double t, const double* y, double* d) mutable {
+        g(t, y, d);
+        return true;
+      };
+    } else {
+      fn_ = std::move(f);
+    }
+  }
+  explicit operator bool() const { return static_cast<bool>(fn_); }
+  bool operator()(double t, const double* y, double* dfdy) const { return fn_(t, y, dfdy); }
+
+ private:
+  std::function<bool(double, const double*, double*)> fn_;
+};
 
 /// The system K y' = f(t, y). Variables are ordered: index-1 (and ODE) variables first, then
 /// index-2, then index-3 (as in RADAU5's NIND1/NIND2/NIND3).
@@ -35,13 +65,31 @@ struct OdeProblem {
   std::function<bool(double t, const double* y, double* f)> rhs;
 
   /// Optional analytic Jacobian df/dy, column-major n x n into dfdy. Empty: finite differences.
-  std::function<void(double t, const double* y, double* dfdy)> jacobian;
+  /// Return false if it cannot be computed (status jacobian_failed); a callable returning void
+  /// is accepted too (always succeeds). With second_order_count = m1 > 0 rows 0..m1-1 are unused.
+  JacobianCallback jacobian;
 
   /// Constant mass matrix K (n x n). Empty (0 x 0): the identity (an ODE).
   Eigen::MatrixXd mass;
 
   int index2_count = 0;  ///< number of index-2 variables (after the index-1 ones)
   int index3_count = 0;  ///< number of index-3 variables (last)
+
+  /// Second-order structure as in RADAU5 (M1, M2): y'_i = y_{i+m2} for i < m1, i.e. f_i must
+  /// return y[i + m2] exactly, the first m1 rows and columns of K are those of the identity,
+  /// and m1 is a multiple of m2 with m1 + m2 <= n. The linear systems then have order n - m1.
+  /// 0: none. second_order_stride 0 means m2 = m1.
+  int second_order_count = 0;
+  int second_order_stride = 0;
+
+  /// Event functions (like SUNDIALS' IDARootInit): g[0..event_count) = g(t, y). After each
+  /// accepted step the integrator looks for sign changes and returns at the earliest root with
+  /// status root_found (see docs/radau.md "Events"). Exceptions end the run (callback_error).
+  int event_count = 0;
+  std::function<void(double t, const double* y, double* g)> events;
+  /// Per event function: 0 any sign change, +1 only increasing (- to +), -1 only decreasing.
+  /// Empty: all 0.
+  std::vector<int> event_direction;
 };
 
 struct RadauOptions {
@@ -56,29 +104,43 @@ struct RadauOptions {
   int max_newton = 7;           ///< Newton iterations per step before the step is retried
   bool gustafsson = true;       ///< predictive (true) or classical step-size control
   double fixed_step = 0.0;      ///< > 0: take exactly this step, no error control (order tests)
+
+  // RADAU5's tuning knobs (0 = the default in parentheses; docs/radau.md "Options").
+  double unit_roundoff = 0.0;   ///< (2.2e-16) step-size floor, FD increments, rtol floor
+  double safety = 0.0;          ///< (0.9) safety factor of the step control, in (0.001, 1)
+  double jacobian_reuse = 0.0;  ///< (0.001) recompute J after a step only if theta > this
+  double newton_tol = 0.0;      ///< (max(10 uround/rtol', min(0.03, sqrt(rtol')))) stop Newton
+  double keep_step_low = 0.0;   ///< (1.0) keep h and the LU if h_new/h in [low, high]
+  double keep_step_high = 0.0;  ///< (1.2)
+  double max_step_growth = 0.0; ///< (5) largest factor h_new/h
+  double max_step_shrink = 0.0; ///< (0.125) smallest factor h_new/h
+  /// Linear algebra: automatic (own LU up to order 64, LAPACK above), own_lu, or lapack
+  /// (DGETRF/ZGETRF/DGETRS/ZGETRS + DGEMV, the path before the own LU).
+  enum class LinearAlgebra { automatic, own_lu, lapack } linear_algebra = LinearAlgebra::automatic;
+  /// Pass a diagonal mass matrix to the kernels as a diagonal (true) or as a full matrix.
+  bool diagonal_mass = true;
 };
 
 /// Counters, exact and deterministic for a fixed problem, options and kernel.
 struct RadauStats {
-  long f_evals = 0;             ///< evaluations of f (including those for FD Jacobians)
+  long f_evals = 0;             ///< evaluations of f, without those for FD Jacobians (RADAU5's)
+  long f_evals_jacobian = 0;    ///< evaluations of f for finite-difference Jacobians
   long jacobians = 0;           ///< Jacobian evaluations
   long lu_decompositions = 0;   ///< LU decompositions (each real+complex pair counts once)
   long linear_solves = 0;       ///< forward-backward substitutions (real+complex pair once)
   long steps = 0;               ///< steps attempted
   long accepted = 0;
-  long rejected = 0;
+  long rejected = 0;             ///< = error_test + newton + evaluation rejections
+  long error_test_rejections = 0;
+  long newton_rejections = 0;    ///< divergence, too many iterations, predicted slow convergence
+  long evaluation_rejections = 0;  ///< f could not be evaluated, or a value was not finite
+  long singular_matrices = 0;
+  long event_evals = 0;          ///< evaluations of the event functions
 };
 
-enum class RadauStatus {
-  success = 0,          ///< reached t_end
-  stopped_by_callback,  ///< the step callback returned StepAction::stop
-  bad_input,            ///< invalid argument (n <= 0, tolerances <= 0, K of wrong size, ...)
-  too_many_steps,       ///< more than max_steps steps
-  step_too_small,       ///< step size underflow relative to t
-  singular_matrix,      ///< the iteration matrix was repeatedly singular
-  callback_error,       ///< f, the Jacobian or the step callback threw
-};
-const char* to_string(RadauStatus status);
+/// The Radau kernel's statuses are the shared ODE status table (ode/status.hpp); the old name
+/// stays as an alias so code written against RadauStatus compiles unchanged.
+using RadauStatus = OdeStatus;
 
 /// What the step callback sees after every accepted step [t_prev, t].
 class StepInfo {
@@ -114,6 +176,8 @@ struct RadauResult {
   double h_last = 0.0;         ///< the last (predicted) step size
   RadauStats stats;
   std::string message;         ///< human-readable reason on failure, naming the time
+  /// On root_found: per event function +1 (increased through 0 at t), -1 (decreased), 0.
+  std::vector<int> root_directions;
 };
 
 /// Integrates K y' = f(t, y) from (t0, y0) to t_end. Never throws: failures come back in

@@ -9,13 +9,14 @@ namespace pcsim::radau_port {
 
 /// Port of RADIIA (see its header in fortran/radau.f and bridge/pcsim_radau.h for every
 /// argument). zwork holds complex numbers as interleaved (re, im) pairs, lzwork of them.
-/// The linear algebra calls the same LAPACK/BLAS routines as the Fortran kernel (DGETRF/ZGETRF,
-/// DGETRS/ZGETRS, DGEMV) and every other operation is done in the same order, so the two kernels
-/// round identically (see radau_port.cpp for why). Returns IDID.
-int integrate(pcsim_radau_fcn fcn, pcsim_radau_jac jac, pcsim_radau_solout solout, void* ctx,
-              int ijac, int imas, int itol, int iout, int n, double* t, double tend, double* y,
-              double* h, const double* rtol, const double* atol, const double* am, int ldm,
-              double* work, int lwork, double* zwork, int lzwork, int* iwork, int liwork);
+/// The linear algebra is the port of the same routines (radau_lu.cpp, or the same LAPACK/BLAS
+/// calls on the LAPACK path) and every other operation is done in the same order, so the two
+/// kernels round identically (see radau_port.cpp for why). Returns IDID.
+int integrate(pcsim_radau_fcn fcn, pcsim_radau_jac jac, pcsim_radau_solout solout,
+              pcsim_radau_gfcn gfcn, void* ctx, int ijac, int imas, int itol, int iout, int ng,
+              int n, double* t, double tend, double* y, double* h, const double* rtol,
+              const double* atol, const double* am, int ldm, double* work, int lwork,
+              double* zwork, int lzwork, int* iwork, int liwork);
 
 /// Port of RADDEN: the dense output of the step [told, tnew] at t. Returns INFO.
 int dense(int n, double t, double told, double tnew, const double* cont, int ldc, double* yout);

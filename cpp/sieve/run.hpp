@@ -1,39 +1,22 @@
-// Running a sieve case: simulate, compute the contracted summary, write the output files.
+// The sieve's client of the generic run layer: the working conditions of the paper, contact
+// (3.1) R_u > 0 and rolling (3.2) f* = |R_s|/R_u < f (3.3), checked over the whole run with
+// their first violation located on the dense output; the window extremes of x, y, theta, R_u and
+// f*; the summary keys of architecture.md section 4; the engineer's report.
 #pragma once
 
-#include <filesystem>
-#include <optional>
+#include <memory>
 #include <string>
+#include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "sieve/case.hpp"
-#include "sieve/model.hpp"
+#include "sim/client.hpp"
 
 namespace pcsim::sieve {
 
-struct RunOptions {
-  /// Where to write timeseries.csv and summary.json; nullopt writes nothing (sweeps).
-  /// Files are written to a temporary name and renamed, so a failed run leaves none.
-  std::optional<std::filesystem::path> out_dir;
-  /// Internal (not a case key, not a CLI flag): which equivalent model description is
-  /// integrated. The default is the paper's closed form (3.4) with M, h, Q derived by the
-  /// engine's automatic differentiation (issue 4); `analytic` (hand-derived, verified against
-  /// the AD forms by the tests) is an opt-in fast path for the C++ API and the benchmarks.
-  ModelForm model_form = ModelForm::closed_form;
-};
+/// The sieve client (registered for model "sieve" by register_sieve()).
+std::shared_ptr<const sim::Client> make_sieve_client();
 
-/// Runs the case to solver.t_end and returns summary.json's content (architecture.md section
-/// 4: case, model, kernel, form, t_end, window, stats, amplitude, theta_mean, R_u_min, R_u_max,
-/// R_u_min_over_weight, fstar_max, contact_kept, rolling_kept, first_violation,
-/// constraint_residual_max, q_end, plus "assumptions" and margins). Thread-safe: concurrent
-/// calls on different cases share nothing. Throws pcsim::NumericalError (with the model time
-/// and the reason) if the integration fails.
-nlohmann::json run_case(const Case& c, const RunOptions& options = {});
-
-/// The engineer's report printed by `pcsim run` (assumptions, max |theta|, the contact margin
-/// min R_u/(m2 g), the rolling margin 1 - max f*/f, which of (3.1)/(3.2) is closer to
-/// violation, verdicts, solver statistics).
-std::string human_report(const Case& c, const nlohmann::json& summary);
+/// The summary columns of a sieve sweep.csv, in order (every scalar of summary.json that is a
+/// deterministic function of the case, then the two design margins).
+const std::vector<std::string>& sieve_sweep_columns();
 
 }  // namespace pcsim::sieve

@@ -8,7 +8,8 @@
 
 #include "common/kernel.hpp"
 #include "mech/simulation.hpp"
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
+#include <toml++/toml.h>
 
 namespace pcsim::sieve {
 
@@ -61,8 +62,10 @@ struct SieveSettings {
   OutputSettings output;
 };
 
-/// Reads the typed settings out of a validated case (load_case has checked every key).
-SieveSettings settings_from_case(const Case& c);
+/// Reads the typed settings out of a validated sieve case table (sim::load_case has checked
+/// every key).
+SieveSettings settings_from_table(const toml::table& t);
+inline SieveSettings settings_from_case(const sim::Case& c) { return settings_from_table(c.table); }
 
 /// The parameters the paper does not print (sieve-model.md section 5 table), by key, in the
 /// order of that table: these are the run's assumptions and are reported as such.

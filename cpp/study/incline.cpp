@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 
+#include "common/error.hpp"
 #include "study/table.hpp"
 
 namespace pcsim::study {
@@ -72,7 +73,16 @@ std::string gnuplot_script(const std::string& xkey, const std::string& case_name
 
 }  // namespace
 
-Axis default_incline_axis(const sieve::Case& base) {
+void check_incline_case(const sim::Case& base) {
+  if (base.model->name() != "sieve" || !base.client)
+    throw InputError((base.source.empty() ? std::string("<case>") : base.source.string()) +
+                     ": key 'model': expected the built-in model \"sieve\": the incline study "
+                     "compares the sieve's desk with theta free and locked (constraints.lock_theta), "
+                     "and the " + base.model->origin() + " has no such variant; use pcsim sweep "
+                     "with --vary on a constraint switch instead");
+}
+
+Axis default_incline_axis(const sim::Case& base) {
   const double a = base.table.at_path("parameters.a").value_or(0.5);
   const double r = base.table.at_path("parameters.r").value_or(0.1);
   const double half = a > r ? a - r : a;
@@ -89,9 +99,10 @@ const std::vector<std::string>& incline_columns() {
   return c;
 }
 
-InclineReport run_incline_study(const sieve::Case& base, const std::vector<Axis>& design_axes,
+InclineReport run_incline_study(const sim::Case& base, const std::vector<Axis>& design_axes,
                                 const Runner& runner, const InclineOptions& options) {
   InclineReport report;
+  check_incline_case(base);
   std::vector<Axis> axes = design_axes;
   axes.push_back(Axis{kLockKey, {"false", "true"}});
   const Grid grid(axes);
@@ -100,6 +111,7 @@ InclineReport run_incline_study(const sieve::Case& base, const std::vector<Axis>
   so.jobs = options.jobs;
   so.progress = options.progress;
   so.cluster = options.cluster;
+  so.restart = options.restart;
   report.sweep = run_sweep(base, grid, runner, so);
   report.points = grid.size() / 2;
   if (!report.sweep.ok) {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
 #include "study/cluster.hpp"
 #include "study/sweep.hpp"
 #include "study/vary.hpp"
@@ -17,7 +17,11 @@ namespace pcsim::study {
 /// -(a - r) to +(a - r) in 9 points. The model fixes no deck length; the desk's outermost
 /// attachment is the horizontal spring at xi = a (0.5 m), so the deck is taken as
 /// [-a, a] and the roller (radius r) kept on it. If a <= r, the range is [-a, a].
-Axis default_incline_axis(const sieve::Case& base);
+Axis default_incline_axis(const sim::Case& base);
+
+/// Throws pcsim::InputError unless the case's model is the built-in sieve (the study needs its
+/// constraints.lock_theta and margins), naming the key and the reason.
+void check_incline_case(const sim::Case& base);
 
 /// The columns of incline.csv after the design keys.
 const std::vector<std::string>& incline_columns();
@@ -28,6 +32,7 @@ struct InclineOptions {
   bool progress = false;              ///< progress bar on stderr
   const Cluster* cluster = nullptr;   ///< MPI ranks; null = this process alone
   bool plot = true;                   ///< run gnuplot for incline.png
+  bool restart = false;               ///< see SweepOptions::restart
 };
 
 struct InclineReport {
@@ -48,7 +53,7 @@ struct InclineReport {
 /// makes that working condition worse) and the theta amplitude; and, with plot, the gnuplot
 /// script incline.gp and its figure incline.png (x axis: the first design key). Rank 0
 /// writes incline.csv and the figure.
-InclineReport run_incline_study(const sieve::Case& base, const std::vector<Axis>& design_axes,
+InclineReport run_incline_study(const sim::Case& base, const std::vector<Axis>& design_axes,
                                 const Runner& runner, const InclineOptions& options);
 
 }  // namespace pcsim::study

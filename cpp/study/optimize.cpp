@@ -18,9 +18,21 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-bool is_numeric_column(const std::string& name) {
-  const auto& c = summary_columns();
+bool is_numeric_column(const sim::Case& base, const std::string& name) {
+  const auto c = summary_columns(base);
   return std::find(c.begin(), c.end(), name) != c.end();
+}
+
+/// Columns that are not a number on every run: verdicts (true/false), the window flag, and the
+/// first violation times (empty while a condition holds). The optimizer cannot use them.
+std::string not_optimizable(const std::string& name) {
+  if (name.rfind("first_violation.", 0) == 0)
+    return "it is a time that exists only once the condition fails (empty while it holds); "
+           "optimize the margin instead (contact_margin, rolling_margin)";
+  if (name.size() > 5 && name.compare(name.size() - 5, 5, "_kept") == 0)
+    return "it is a verdict (true or false), not a quantity; optimize the margin instead";
+  if (name == "window_clipped") return "it is a flag (true or false), not a quantity";
+  return "";
 }
 
 std::string stop_text(nlopt::result r) {
@@ -38,7 +50,7 @@ std::string stop_text(nlopt::result r) {
 /// The state COBYLA's callbacks share: runs each design once (the objective and every
 /// constraint at the same x reuse one run).
 struct Problem {
-  const sieve::Case& base;
+  const sim::Case& base;
   const std::vector<Bounds>& bounds;
   const Runner& runner;
   const OptimizeOptions& options;
@@ -56,10 +68,10 @@ struct Problem {
     return x;
   }
 
-  sieve::Case case_of(const std::vector<double>& x) const {
-    sieve::Case c = base;
+  sim::Case case_of(const std::vector<double>& x) const {
+    sim::Case c = base;
     for (std::size_t i = 0; i < x.size(); ++i)
-      sieve::set_value(c, {bounds[i].key, format_number(x[i])});
+      sim::set_value(c, {bounds[i].key, format_number(x[i])});
     return c;
   }
 
@@ -71,9 +83,9 @@ struct Problem {
     e.objective = kNaN;
     e.constraints.assign(options.constraints.size(), kNaN);
     try {
-      const sieve::Case c = case_of(e.design);
-      const double f = c.table.at_path("parameters.f").value_or(kNaN);
-      const auto fields = numeric_fields(summary_columns(), flatten_summary(runner(c), f));
+      const sim::Case c = case_of(e.design);
+      const auto columns = summary_columns(c);
+      const auto fields = numeric_fields(columns, flatten_summary(runner(c), c, columns));
       if (auto o = fields.find(options.objective); o != fields.end()) e.objective = o->second;
       for (std::size_t k = 0; k < options.constraints.size(); ++k)
         if (auto v = fields.find(options.constraints[k].name); v != fields.end())
@@ -127,7 +139,7 @@ std::string Constraint::text() const {
   return name + (at_least ? ">=" : "<=") + format_number(value);
 }
 
-Constraint parse_constraint(const std::string& spec) {
+Constraint parse_constraint(const std::string& spec, const sim::Case& base) {
   std::size_t pos = spec.find(">=");
   bool at_least = true;
   if (pos == std::string::npos) {
@@ -139,9 +151,12 @@ Constraint parse_constraint(const std::string& spec) {
   std::string name = spec.substr(0, pos);
   while (!name.empty() && name.back() == ' ') name.pop_back();
   while (!name.empty() && name.front() == ' ') name.erase(0, 1);
-  if (!is_numeric_column(name))
+  if (const std::string why = not_optimizable(name); !why.empty())
+    throw InputError("--constraint '" + spec + "': '" + name + "' cannot be constrained: " + why);
+  if (!is_numeric_column(base, name))
     throw InputError("--constraint '" + spec + "': unknown quantity '" + name +
-                     "' (use a sweep.csv summary column, e.g. rolling_margin or amplitude.x)");
+                     "' (use a sweep.csv summary column of this case, e.g. " +
+                     summary_columns(base).front() + ")");
   std::string value = spec.substr(pos + 2);
   while (!value.empty() && value.front() == ' ') value.erase(0, 1);
   while (!value.empty() && value.back() == ' ') value.pop_back();
@@ -153,21 +168,28 @@ Constraint parse_constraint(const std::string& spec) {
   return Constraint{name, at_least, v};
 }
 
-void check_objective_name(const std::string& name) {
-  if (!is_numeric_column(name))
+void check_objective_name(const std::string& name, const sim::Case& base) {
+  if (const std::string why = not_optimizable(name); !why.empty())
+    throw InputError("--objective '" + name + "': cannot be optimized: " + why);
+  if (!is_numeric_column(base, name))
     throw InputError("--objective '" + name +
-                     "': not a summary quantity (use a sweep.csv summary column, e.g. "
-                     "contact_margin)");
+                     "': not a summary quantity of this case (use a sweep.csv summary column, "
+                     "e.g. " + summary_columns(base).front() + ")");
 }
 
-std::vector<Constraint> default_constraints() {
+std::string default_objective(const sim::Case& base) {
+  return base.model->name() == "sieve" ? "contact_margin" : "";
+}
+
+std::vector<Constraint> default_constraints(const sim::Case& base) {
+  if (base.model->name() != "sieve") return {};
   return {{"rolling_margin", true, 0.2},
           {"amplitude.theta", false, 1e-3},
           {"amplitude.x", true, 2e-5},
           {"amplitude.x", false, 1e-4}};
 }
 
-OptimizeResult optimize(const sieve::Case& base, const std::vector<Bounds>& bounds,
+OptimizeResult optimize(const sim::Case& base, const std::vector<Bounds>& bounds,
                         const Runner& runner, const OptimizeOptions& options,
                         const std::function<void(const Evaluation&)>& on_evaluation) {
   Problem p{base, bounds, runner, options, on_evaluation, {}, {}, kNaN};
@@ -237,7 +259,7 @@ OptimizeResult optimize(const sieve::Case& base, const std::vector<Bounds>& boun
   if (result.best) {
     const auto& x = result.evaluations[*result.best].design;
     for (std::size_t i = 0; i < x.size(); ++i)
-      sieve::set_value(result.best_case, {bounds[i].key, format_number(x[i])});
+      sim::set_value(result.best_case, {bounds[i].key, format_number(x[i])});
   }
   return result;
 }

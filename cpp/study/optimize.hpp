@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
 #include "study/sweep.hpp"
 #include "study/vary.hpp"
 
@@ -24,12 +24,16 @@ struct Constraint {
 
 /// Parses a constraint; throws pcsim::InputError naming it if the form is wrong, NAME is not
 /// a numeric summary column (table.hpp summary_columns) or VALUE is not a finite number.
-Constraint parse_constraint(const std::string& spec);
+Constraint parse_constraint(const std::string& spec, const sim::Case& base);
 
 /// Throws pcsim::InputError unless `name` is a numeric summary column.
-void check_objective_name(const std::string& name);
+void check_objective_name(const std::string& name, const sim::Case& base);
 
-/// The default constraints of `pcsim optimize` (the paper case, t_end = 10 s, has rolling
+/// The default objective of a case: contact_margin for the sieve; "" (none: --objective is
+/// required) for other models.
+std::string default_objective(const sim::Case& base);
+
+/// The default constraints of `pcsim optimize` for the sieve (none for other models; the paper case, t_end = 10 s, has rolling
 /// margin 0.996, amplitude.x 2.36e-5 m, amplitude.theta 1.4e-5 rad):
 ///   rolling_margin >= 0.2       rolling (3.2) keeps 20 % of the friction in reserve (issue 6);
 ///   amplitude.theta <= 1e-3     the incline vibration stays small (sieve-model.md section 6,
@@ -38,12 +42,12 @@ void check_objective_name(const std::string& name);
 ///                               paper case's vertical amplitude, so the optimizer cannot buy
 ///                               contact margin by simply switching the vibration off;
 ///   amplitude.x <= 1e-4         and at most ~4x of it (spring stroke, desk stresses).
-std::vector<Constraint> default_constraints();
+std::vector<Constraint> default_constraints(const sim::Case& base);
 
 struct OptimizeOptions {
   std::string objective = "contact_margin";  ///< summary column to maximize (or minimize)
   bool maximize = true;
-  std::vector<Constraint> constraints = default_constraints();
+  std::vector<Constraint> constraints;  ///< e.g. default_constraints(base)
   unsigned seed = 1;          ///< nlopt::srand; with a fixed seed the run is reproducible
   int max_evals = 40;         ///< case runs at most
   double xtol_rel = 1e-3;     ///< stop when a step changes the scaled design by less
@@ -64,7 +68,7 @@ struct Evaluation {
 struct OptimizeResult {
   std::vector<Evaluation> evaluations;
   std::optional<std::size_t> best;  ///< index into evaluations: best feasible, else least violation
-  sieve::Case best_case;            ///< base with the best design set (ready for to_toml)
+  sim::Case best_case;            ///< base with the best design set (ready for to_toml)
   std::string stop_reason;          ///< NLopt's reason for stopping, in words
 };
 
@@ -73,7 +77,7 @@ struct OptimizeResult {
 /// fails scores the worst objective seen so far minus 1 (and violates every constraint by 1),
 /// which steers COBYLA away without stopping it. `on_evaluation` (optional) is called after
 /// every run.
-OptimizeResult optimize(const sieve::Case& base, const std::vector<Bounds>& bounds,
+OptimizeResult optimize(const sim::Case& base, const std::vector<Bounds>& bounds,
                         const Runner& runner, const OptimizeOptions& options,
                         const std::function<void(const Evaluation&)>& on_evaluation = {});
 

@@ -18,9 +18,12 @@
 #include <utility>
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
-#include "sieve/run.hpp"
+#include "common/files.hpp"
+#include "common/version.hpp"
+#include "sim/run.hpp"
 #include "study/progress.hpp"
 #include "study/table.hpp"
 
@@ -101,7 +104,7 @@ class Journal {
       index_of.reserve(grid.size());
       const std::size_t naxes = grid.axes().size();
       for (std::size_t i = 0; i < grid.size(); ++i) index_of.emplace(csv_line(grid.texts(i)), i);
-      const std::size_t ncols = naxes + summary_columns().size() + 2;
+      const std::size_t ncols = parse_csv_line(header_line)->size();
       for (std::size_t start = pos + 1; start < old.size();) {
         const std::size_t end = old.find('\n', start);
         if (end == std::string::npos) {  // torn last line: the point was in flight
@@ -200,64 +203,169 @@ std::vector<std::size_t> split_numbers(const std::string& s) {
   return v;
 }
 
-double friction_of(const sieve::Case& c) {
-  if (auto f = c.table.at_path("parameters.f").value<double>()) return *f;
-  return std::numeric_limits<double>::quiet_NaN();
+// The first lines in which two key texts differ, for the refusal message.
+std::string key_differences(const std::string& old_key, const std::string& new_key) {
+  std::istringstream a(old_key), b(new_key);
+  std::vector<std::string> la, lb;
+  for (std::string l; std::getline(a, l);) la.push_back(l);
+  for (std::string l; std::getline(b, l);) lb.push_back(l);
+  std::string out;
+  int shown = 0;
+  for (const auto& l : lb) {
+    if (std::find(la.begin(), la.end(), l) != la.end()) continue;
+    if (shown++ == 3) {
+      out += "; ...";
+      break;
+    }
+    out += (out.empty() ? "" : "; ") + std::string("now '") + l + "'";
+  }
+  for (const auto& l : la) {
+    if (shown > 3) break;
+    if (std::find(lb.begin(), lb.end(), l) != lb.end()) continue;
+    if (shown++ == 3) {
+      out += "; ...";
+      break;
+    }
+    out += (out.empty() ? "" : "; ") + std::string("was '") + l + "'";
+  }
+  return out;
+}
+
+/// Holds an exclusive flock on DIR/.sweep.lock for the sweep's lifetime.
+class SweepLock {
+ public:
+  std::string acquire(const std::filesystem::path& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) return "cannot create directory " + dir.string() + ": " + ec.message();
+    const auto file = dir / ".sweep.lock";
+    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) return errno_text("cannot create the lock file", file);
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0)
+      return "another sweep is writing to " + dir.string() + " (lock " + file.string() +
+             "); wait for it or choose another --out";
+    return "";
+  }
+  ~SweepLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+/// Checks (or records) the journal key of out_dir. "" or the reason to refuse.
+std::string check_key(const std::filesystem::path& dir, const std::string& key, bool restart) {
+  const auto csv = dir / "sweep.csv", key_file = dir / "sweep.key";
+  std::error_code ec;
+  const bool have_csv = std::filesystem::exists(csv, ec);
+  std::string old;
+  const bool have_key = std::filesystem::exists(key_file, ec);
+  if (have_key) {
+    std::ifstream in(key_file, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    old = ss.str();
+  }
+  if (have_csv && old != key) {
+    if (!restart)
+      return csv.string() + " holds another sweep's rows, computed for another case, model or "
+             "pcsim version (" +
+             (have_key ? key_differences(old, key) : std::string("it has no sweep.key")) +
+             "); its rows are not reused: run with --restart to discard them and compute every "
+             "point, or use another --out";
+    std::filesystem::remove(csv, ec);
+    if (ec) return "cannot remove " + csv.string() + ": " + ec.message();
+  }
+  if (old != key) {
+    try {
+      write_file_atomically(key_file, key, true);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+  return "";
 }
 
 }  // namespace
 
-Runner case_runner() {
-  return [](const sieve::Case& c) { return sieve::run_case(c, sieve::RunOptions{}); };
+std::string sweep_key(const sim::Case& base, const Grid& grid) {
+  sim::Case c = base;
+  for (const auto& a : grid.axes()) {
+    const auto dot = a.key.rfind('.');
+    toml::table* sec = dot == std::string::npos
+                           ? &c.table
+                           : c.table.at_path(a.key.substr(0, dot)).as_table();
+    if (sec) sec->erase(dot == std::string::npos ? a.key : a.key.substr(dot + 1));
+  }
+  std::string key = "# pcsim sweep key: the rows of sweep.csv in this directory were computed for\n";
+  key += "pcsim " + std::string(version_string()) + "\n";
+  key += "model " + base.model->fingerprint() + "\n";
+  key += "varied";
+  for (const auto& a : grid.axes()) key += " " + a.key;
+  key += "\n";
+  key += sim::to_toml(c, "the effective case without the varied keys");
+  return key;
 }
 
-std::vector<std::string> sweep_header(const Grid& grid) {
+Runner case_runner() {
+  return [](const sim::Case& c) { return sim::run_case(c, sim::RunOptions{}); };
+}
+
+std::vector<std::string> sweep_header(const sim::Case& base, const Grid& grid) {
   std::vector<std::string> h;
   for (const auto& a : grid.axes()) h.push_back(a.key);
-  for (const auto& c : summary_columns()) h.push_back(c);
+  for (const auto& c : summary_columns(base)) h.push_back(c);
   h.push_back(kStatusColumn);
   h.push_back(kErrorColumn);
   return h;
 }
 
-std::vector<std::string> sweep_row(const sieve::Case& base, const Grid& grid, std::size_t i,
+std::vector<std::string> sweep_row(const sim::Case& base, const Grid& grid, std::size_t i,
                                    const Runner& runner) {
   std::vector<std::string> row = grid.texts(i);
   std::vector<std::string> fields;
   std::string error;
+  const std::vector<std::string> columns = summary_columns(base);
   try {
-    const sieve::Case c = grid.point_case(base, i);
-    fields = flatten_summary(runner(c), friction_of(c));
+    const sim::Case c = grid.point_case(base, i);
+    fields = flatten_summary(runner(c), c, columns);
   } catch (const std::exception& e) {
     error = e.what();
     if (error.empty()) error = "unknown error";
   } catch (...) {
     error = "unknown error";
   }
-  if (!error.empty()) fields.assign(summary_columns().size(), "");
+  if (!error.empty()) fields.assign(columns.size(), "");
   row.insert(row.end(), fields.begin(), fields.end());
   row.push_back(error.empty() ? "ok" : "error");
   row.push_back(error);
   return row;
 }
 
-SweepReport run_sweep(const sieve::Case& base, const Grid& grid, const Runner& runner,
+SweepReport run_sweep(const sim::Case& base, const Grid& grid, const Runner& runner,
                       const SweepOptions& options) {
   const int rank = options.cluster ? options.cluster->rank() : 0;
   const int size = options.cluster ? options.cluster->size() : 1;
   SweepReport report;
   report.csv = options.out_dir / "sweep.csv";
   report.points = grid.size();
-  const std::string header_line = csv_line(sweep_header(grid));
+  const std::string header_line = csv_line(sweep_header(base, grid));
+  const std::size_t n_summary = summary_columns(base).size();
 
-  // Rank 0 reads the earlier file and decides what is pending; the others are told.
+  // Rank 0 locks the directory, checks the journal key, reads the earlier file and decides
+  // what is pending; the others are told.
+  SweepLock lock;
   Journal journal;
   std::vector<std::optional<std::string>> lines;
   std::vector<std::string> foreign;
   std::vector<std::size_t> pending;
   if (rank == 0) {
     lines.resize(grid.size());
-    report.error = journal.open(report.csv, header_line, grid, lines, foreign, report);
+    report.error = lock.acquire(options.out_dir);
+    if (report.error.empty()) report.error = check_key(options.out_dir, sweep_key(base, grid), options.restart);
+    if (report.error.empty())
+      report.error = journal.open(report.csv, header_line, grid, lines, foreign, report);
     for (std::size_t i = 0; i < grid.size(); ++i)
       if (!lines[i]) pending.push_back(i);
   }
@@ -316,7 +424,7 @@ SweepReport run_sweep(const sieve::Case& base, const Grid& grid, const Runner& r
   if (rank == 0) {
     std::string err = journal.finish(header_line, lines, foreign);
     if (io_error.empty()) io_error = err;
-    const std::size_t status_col = grid.axes().size() + summary_columns().size();
+    const std::size_t status_col = grid.axes().size() + n_summary;
     for (const auto& l : lines)
       if (l) {
         const auto f = parse_csv_line(*l);

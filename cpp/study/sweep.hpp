@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
 #include "study/cluster.hpp"
 #include "study/vary.hpp"
 
@@ -18,9 +18,9 @@ namespace pcsim::study {
 
 /// Runs one design point and returns its summary.json content; may throw (the point's row
 /// then records the error). Must be safe to call from several threads at once.
-using Runner = std::function<nlohmann::json(const sieve::Case&)>;
+using Runner = std::function<nlohmann::json(const sim::Case&)>;
 
-/// sieve::run_case writing no files: the runner of the pcsim commands.
+/// sim::run_case writing no files: the runner of the pcsim commands.
 Runner case_runner();
 
 struct SweepOptions {
@@ -28,6 +28,9 @@ struct SweepOptions {
   unsigned jobs = 0;                            ///< threads per rank; 0 = all cores
   bool progress = false;                        ///< progress bar on stderr (rank 0)
   const Cluster* cluster = nullptr;             ///< MPI ranks to share the points; null = alone
+  /// An existing sweep.csv computed for another case (its journal key differs): false refuses
+  /// the sweep naming what changed; true discards the old rows and computes every point.
+  bool restart = false;
 };
 
 struct SweepReport {
@@ -42,14 +45,19 @@ struct SweepReport {
   std::size_t foreign = 0;     ///< earlier rows not on this grid, kept after the grid rows
 };
 
-/// sweep.csv's header: the axis keys, summary_columns(), status, error.
-std::vector<std::string> sweep_header(const Grid& grid);
+/// sweep.csv's header: the axis keys, summary_columns(base), status, error.
+std::vector<std::string> sweep_header(const sim::Case& base, const Grid& grid);
 
 /// The fields of grid point i's row: its values, the flattened summary of runner(point case),
 /// "ok" and ""; or, if setting the values or the run throws, empty summary fields, "error" and
 /// the reason.
-std::vector<std::string> sweep_row(const sieve::Case& base, const Grid& grid, std::size_t i,
+std::vector<std::string> sweep_row(const sim::Case& base, const Grid& grid, std::size_t i,
                                    const Runner& runner);
+
+/// The journal key of a sweep: the pcsim version, the model's fingerprint, the varied keys and
+/// the complete effective case (after overrides) without the varied keys. Rows in sweep.csv are
+/// reused only while out_dir/sweep.key holds the same text.
+std::string sweep_key(const sim::Case& base, const Grid& grid);
 
 /// Runs every point of `grid` not yet in out_dir/sweep.csv and leaves sweep.csv holding the
 /// header and one row per grid point in grid order (then any earlier rows not on this grid).
@@ -62,10 +70,15 @@ std::vector<std::string> sweep_row(const sieve::Case& base, const Grid& grid, st
 /// the next run drops. At the end the whole table is rewritten in grid order via temporary
 /// file + fsync + rename, so sweep.csv is never seen half-written.
 ///
+/// Reuse is keyed (sweep_key, in out_dir/sweep.key): rows of an earlier sweep of another case,
+/// model or pcsim version are never taken as current; the sweep is refused, naming the first
+/// differences, or (options.restart) started afresh. A second sweep into the same directory
+/// while one runs is refused (flock on out_dir/.sweep.lock).
+///
 /// With a multi-rank cluster, rank 0 owns the file; the pending points are dealt out
 /// round-robin (pending[k] goes to rank k mod size), every rank runs its share with `jobs`
 /// threads and sends finished rows to rank 0. Every rank returns the same report.
-SweepReport run_sweep(const sieve::Case& base, const Grid& grid, const Runner& runner,
+SweepReport run_sweep(const sim::Case& base, const Grid& grid, const Runner& runner,
                       const SweepOptions& options);
 
 }  // namespace pcsim::study

@@ -2,9 +2,13 @@
 #include "study/table.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
+#include "common/format.hpp"
+#include "sim/client.hpp"
+#include "sim/run.hpp"
 #include "study/vary.hpp"
 
 namespace pcsim::study {
@@ -29,39 +33,37 @@ std::string scalar_text(const nlohmann::json& v) {
 
 }  // namespace
 
-const std::vector<std::string>& summary_columns() {
-  static const std::vector<std::string> columns = {
-      "amplitude.x", "amplitude.y", "amplitude.theta", "theta_mean", "theta_max_abs",
-      "theta_max_abs_run",
-      "R_u_min", "R_u_max", "R_u_min_over_weight", "fstar_max",
-      "contact_kept", "rolling_kept", "first_violation.contact", "first_violation.rolling",
-      "constraint_residual_max",
-      "q_end.x", "q_end.y", "q_end.theta", "q_end.s", "q_end.u", "q_end.phi",
-      "stats.steps", "stats.accepted", "stats.rejected", "stats.f_evals", "stats.jacobians",
-      "stats.lu_decompositions",
-      "contact_margin", "rolling_margin"};
-  return columns;
+std::vector<std::string> summary_columns(const sim::Case& c) {
+  std::vector<std::string> cols;
+  if (c.client) cols = c.client->sweep_columns();
+  if (cols.empty()) {
+    const auto ts = sim::timeseries_columns(c);
+    for (std::size_t i = 1; i + 2 < ts.size(); ++i)
+      for (const char* part : {"min", "max", "amplitude"})
+        cols.push_back("extremes." + ts[i] + "." + part);
+    for (const auto& q : c.model->coordinates()) cols.push_back("q_end." + q);
+    for (const auto& q : c.model->coordinates()) cols.push_back("qd_end." + q + "_d");
+    cols.push_back("constraint_residual_max");
+    for (const char* st : {"steps", "accepted", "rejected", "f_evals", "jacobians", "lu_decompositions"})
+      cols.push_back(std::string("stats.") + st);
+  }
+  cols.push_back("window_clipped");
+  return cols;
 }
 
-std::vector<std::string> flatten_summary(const nlohmann::json& summary, double friction) {
-  const auto& columns = summary_columns();
+std::vector<std::string> flatten_summary(const nlohmann::json& summary, const sim::Case& c,
+                                         const std::vector<std::string>& columns) {
+  const std::map<std::string, double> derived =
+      c.client ? c.client->derived_columns(summary, c) : std::map<std::string, double>{};
   std::vector<std::string> fields;
   fields.reserve(columns.size());
-  for (const auto& c : columns) {
-    if (c == "contact_margin") {
-      const auto p = pointer("R_u_min_over_weight");
-      fields.push_back(summary.contains(p) && summary.at(p).is_number()
-                           ? format_number(summary.at(p).get<double>())
-                           : "");
-    } else if (c == "rolling_margin") {
-      const auto p = pointer("fstar_max");
-      fields.push_back(summary.contains(p) && summary.at(p).is_number()
-                           ? format_number(1.0 - summary.at(p).get<double>() / friction)
-                           : "");
-    } else {
-      const auto p = pointer(c);
-      fields.push_back(summary.contains(p) ? scalar_text(summary.at(p)) : "");
+  for (const auto& col : columns) {
+    if (auto d = derived.find(col); d != derived.end()) {
+      fields.push_back(std::isfinite(d->second) ? format_number(d->second) : "");
+      continue;
     }
+    const auto p = pointer(col);
+    fields.push_back(summary.contains(p) ? scalar_text(summary.at(p)) : "");
   }
   return fields;
 }

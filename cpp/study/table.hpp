@@ -11,24 +11,28 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/case.hpp"
+
 namespace pcsim::study {
 
-/// The summary columns of sweep.csv, in order: every scalar of summary.json that is a
-/// deterministic function of the case (amplitude.*, theta_mean, theta_max_abs*, R_u_*, fstar_max, verdicts,
-/// first_violation.*, constraint_residual_max, q_end.*, stats.* except wall_seconds), then the
-/// two design margins: contact_margin = min R_u/(m2 g) and rolling_margin = 1 - max f*/f.
-/// stats.wall_seconds is left out on purpose: it differs from run to run, and a sweep's table
-/// must be identical whatever the number of jobs or ranks (measure speed with bench_study).
-const std::vector<std::string>& summary_columns();
+/// The summary columns of sweep.csv for a case, in order. The model's client chooses them (the
+/// sieve: amplitude.*, theta_mean, theta_max_abs*, R_u_*, fstar_max, verdicts,
+/// first_violation.*, constraint_residual_max, q_end.*, stats.*, then the design margins
+/// contact_margin and rolling_margin); any other model has every window extreme
+/// (extremes.<column>.min/max/amplitude), q_end.*, qd_end.*, constraint_residual_max and stats.*.
+/// Then window_clipped. stats.wall_seconds is left out on purpose: it differs from run to run,
+/// and a sweep's table must be identical whatever the number of jobs or ranks.
+std::vector<std::string> summary_columns(const sim::Case& c);
 
 /// The last two columns of every row.
 inline constexpr const char* kStatusColumn = "status";  ///< "ok" or "error"
 inline constexpr const char* kErrorColumn = "error";    ///< the reason of a failed point
 
-/// The values of summary_columns() for one summary, as CSV text: numbers as shortest
-/// round-trip decimals, booleans as true/false, null or missing as an empty field.
-/// `friction` is the case's parameters.f (for rolling_margin).
-std::vector<std::string> flatten_summary(const nlohmann::json& summary, double friction);
+/// The values of `columns` for one summary of case c, as CSV text: numbers as shortest
+/// round-trip decimals, booleans as true/false, null or missing as an empty field; columns the
+/// summary lacks are the client's derived columns (e.g. the sieve's margins).
+std::vector<std::string> flatten_summary(const nlohmann::json& summary, const sim::Case& c,
+                                         const std::vector<std::string>& columns);
 
 /// The numeric columns of a flattened summary by name (booleans as 1/0; empty fields left out).
 std::map<std::string, double> numeric_fields(const std::vector<std::string>& columns,

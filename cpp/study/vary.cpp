@@ -51,13 +51,13 @@ double parse_value(const std::string& spec, std::string_view text) {
 
 /// Splits KEY=REST and checks that KEY is a numeric key of the case.
 std::pair<std::string, std::string_view> split_key(const std::string& spec,
-                                                   const sieve::Case& base) {
+                                                   const sim::Case& base) {
   const std::size_t eq = spec.find('=');
   if (eq == std::string::npos)
     reject(spec, "expected KEY=START:STOP:COUNT, KEY=v1,v2,... or KEY=LOW:HIGH");
   std::string key(trim(std::string_view(spec).substr(0, eq)));
   if (key.empty()) reject(spec, "the key is empty");
-  if (!sieve::is_numeric_key(key)) {
+  if (!sim::is_numeric_key(base, key)) {
     if (base.table.at_path(key))
       reject(spec, "key '" + key + "' is not numeric (only numeric case keys can be varied)");
     reject(spec, "unknown key '" + key + "' (use a dotted case key such as parameters.omega)");
@@ -66,11 +66,11 @@ std::pair<std::string, std::string_view> split_key(const std::string& spec,
 }
 
 /// Applies `text` to a copy of the case so a value the case rejects stops the study now.
-void check_value(const std::string& spec, const sieve::Case& base, const std::string& key,
+void check_value(const std::string& spec, const sim::Case& base, const std::string& key,
                  const std::string& text) {
-  sieve::Case probe = base;
+  sim::Case probe = base;
   try {
-    sieve::set_value(probe, {key, text});
+    sim::set_value(probe, {key, text});
   } catch (const InputError& e) {
     reject(spec, "value " + text + " is rejected by the case: " + e.what());
   }
@@ -86,12 +86,6 @@ double round_decimal(double v) {
   return r;
 }
 
-std::string format_number(double v) {
-  char buf[64];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  (void)ec;  // 64 characters always hold the shortest representation of a double
-  return std::string(buf, end);
-}
 
 void check_distinct_keys(const std::vector<std::string>& keys) {
   std::set<std::string> seen;
@@ -99,7 +93,7 @@ void check_distinct_keys(const std::vector<std::string>& keys) {
     if (!seen.insert(k).second) throw InputError("--vary: key '" + k + "' is varied twice");
 }
 
-Axis parse_vary(const std::string& spec, const sieve::Case& base) {
+Axis parse_vary(const std::string& spec, const sim::Case& base) {
   auto [key, rest] = split_key(spec, base);
   Axis axis{key, {}};
   const auto fields = split(rest, ':');
@@ -134,12 +128,25 @@ Axis parse_vary(const std::string& spec, const sieve::Case& base) {
   } else {
     reject(spec, "expected START:STOP:COUNT or a list v1,v2,...");
   }
+  // A value given twice would run the same point twice (and make two rows of one point).
+  for (std::size_t i = 0; i < axis.texts.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (std::stod(axis.texts[i]) == std::stod(axis.texts[j]))
+        reject(spec, "value " + axis.texts[i] + " appears twice (each design point runs once; "
+                     "remove the duplicate)");
+  if (sim::is_integer_key(base, key))
+    for (const auto& t : axis.texts)
+      if (t.find_first_of(".eE") != std::string::npos || t.find("inf") != std::string::npos)
+        reject(spec, "key '" + key + "' takes integers, got " + t);
   for (const auto& t : axis.texts) check_value(spec, base, key, t);
   return axis;
 }
 
-Bounds parse_bounds(const std::string& spec, const sieve::Case& base) {
+Bounds parse_bounds(const std::string& spec, const sim::Case& base) {
   auto [key, rest] = split_key(spec, base);
+  if (sim::is_integer_key(base, key))
+    reject(spec, "key '" + key + "' takes integers, and the optimizer (COBYLA) moves continuous "
+                 "design keys; sweep it instead (pcsim sweep --vary " + key + "=...)");
   const auto fields = split(rest, ':');
   if (fields.size() != 2) reject(spec, "expected KEY=LOW:HIGH");
   Bounds b{key, parse_value(spec, fields[0]), parse_value(spec, fields[1])};
@@ -178,7 +185,7 @@ std::vector<std::string> Grid::texts(std::size_t i) const {
   return t;
 }
 
-Grid make_grid(const std::vector<std::string>& specs, const sieve::Case& base) {
+Grid make_grid(const std::vector<std::string>& specs, const sim::Case& base) {
   std::vector<Axis> axes;
   std::vector<std::string> keys;
   for (const auto& s : specs) {
@@ -189,10 +196,10 @@ Grid make_grid(const std::vector<std::string>& specs, const sieve::Case& base) {
   return Grid(std::move(axes));
 }
 
-sieve::Case Grid::point_case(const sieve::Case& base, std::size_t i) const {
-  sieve::Case c = base;
+sim::Case Grid::point_case(const sim::Case& base, std::size_t i) const {
+  sim::Case c = base;
   const auto t = texts(i);
-  for (std::size_t k = 0; k < axes_.size(); ++k) sieve::set_value(c, {axes_[k].key, t[k]});
+  for (std::size_t k = 0; k < axes_.size(); ++k) sim::set_value(c, {axes_[k].key, t[k]});
   return c;
 }
 

@@ -6,11 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "sieve/case.hpp"
+#include "common/format.hpp"
+#include "sim/case.hpp"
 
 namespace pcsim::study {
 
-/// One varied case key and the values it takes, as the exact text given to sieve::set_value
+/// One varied case key and the values it takes, as the exact text given to sim::set_value
 /// and written to sweep.csv (shortest round-trip decimal for numbers, so the CSV value parses
 /// back to the same double).
 struct Axis {
@@ -31,17 +32,15 @@ struct Bounds {
 /// non-numeric or non-finite value, a zero or non-integer COUNT, a reversed range
 /// (STOP < START), COUNT 1 with START != STOP, and any value the case rejects (set_value's
 /// validation, e.g. a negative mass).
-Axis parse_vary(const std::string& spec, const sieve::Case& base);
+Axis parse_vary(const std::string& spec, const sim::Case& base);
 
 /// Parses `KEY=LOW:HIGH` (LOW < HIGH) with the same key and value checks as parse_vary; both
 /// bounds must be accepted by the case.
-Bounds parse_bounds(const std::string& spec, const sieve::Case& base);
+Bounds parse_bounds(const std::string& spec, const sim::Case& base);
 
 /// Throws pcsim::InputError if a key is varied twice.
 void check_distinct_keys(const std::vector<std::string>& keys);
 
-/// Shortest decimal text that parses back to exactly `v` ("0.3", "280", "1e-05").
-std::string format_number(double v);
 
 /// v rounded to 12 significant decimal digits (grid values that read as the decimals a user
 /// typed: -0.4 + 0.1 gives -0.3, not -0.30000000000000004).
@@ -60,9 +59,9 @@ class Grid {
   std::vector<std::size_t> coords(std::size_t i) const;
   /// The value texts of grid point i, one per axis.
   std::vector<std::string> texts(std::size_t i) const;
-  /// base with every axis key set to its value at grid point i (sieve::set_value; it may throw
+  /// base with every axis key set to its value at grid point i (sim::set_value; it may throw
   /// pcsim::InputError if a combination is invalid).
-  sieve::Case point_case(const sieve::Case& base, std::size_t i) const;
+  sim::Case point_case(const sim::Case& base, std::size_t i) const;
   static constexpr std::size_t max_points() { return 10'000'000; }
 
  private:
@@ -72,6 +71,6 @@ class Grid {
 
 /// Every `--vary` specification parsed (parse_vary), keys checked distinct, and the grid they
 /// span; throws pcsim::InputError before anything runs.
-Grid make_grid(const std::vector<std::string>& specs, const sieve::Case& base);
+Grid make_grid(const std::vector<std::string>& specs, const sim::Case& base);
 
 }  // namespace pcsim::study

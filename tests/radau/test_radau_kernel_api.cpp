@@ -78,17 +78,23 @@ BOOST_AUTO_TEST_CASE(bad_inputs_return_bad_input_with_a_reason) {
     BOOST_TEST_CONTEXT("kernel " << to_string(k)) {
       const Eigen::VectorXd y1 = Eigen::VectorXd::Ones(1);
       RadauOptions o;
+      // tolerances out of range have their own status (with a reason)
       o.rtol = -1e-6;
-      BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::bad_input));
+      BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::tolerance_too_small));
       o = {};
       o.atol = -1e-6;
-      BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::bad_input));
+      BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::tolerance_too_small));
       o = {};
       o.atol = 0.0;
-      BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::bad_input));
+      BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::tolerance_too_small));
       o = {};
       o.rtol_vec = Eigen::VectorXd::Constant(1, -1.0);
-      BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::bad_input));
+      BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::tolerance_too_small));
+      o = {};
+      o.rtol = 1e-16;  // below 10 unit roundoffs
+      const RadauResult rt = run(k, decay(), y1, 1.0, o);
+      BOOST_TEST((rt.status == RadauStatus::tolerance_too_small));
+      BOOST_TEST(contains(rt.message, "10 unit roundoffs"), rt.message);
       o = {};
       o.atol_vec = Eigen::VectorXd::Constant(2, 1e-6);  // wrong size
       BOOST_TEST((run(k, decay(), y1, 1.0, o).status == RadauStatus::bad_input));
@@ -128,9 +134,9 @@ BOOST_AUTO_TEST_CASE(kernels_report_the_same_illegal_argument_index) {
   // first illegal argument i (the numbering of fortran/radau.f). Each case changes one
   // argument of an otherwise valid call.
   struct Args {
-    int ijac = 0, imas = 0, itol = 0, iout = 0, n = 1, ldm = 1;
+    int ijac = 0, imas = 0, itol = 0, iout = 0, ng = 0, n = 1, ldm = 1;
     double t = 0, tend = 1, h = 0, rtol = 1e-6, atol = 1e-6;
-    int lwork = 20 + 19 + 2, lzwork = 2, liwork = 22;
+    int lwork = 20 + 23 + 4, lzwork = 2, liwork = 33;
     double work_safe = 0;
     int iwork_nind2 = 0;
   };
@@ -142,6 +148,8 @@ BOOST_AUTO_TEST_CASE(kernels_report_the_same_illegal_argument_index) {
                 int* ierr) { *ierr = 1; };
   auto sol = [](const int*, const double*, const double*, double*, const double*, const int*,
                 void* const*, int* irtrn) { *irtrn = 0; };
+  auto gfn = [](const int*, const double*, const double*, const int*, double*, void* const*,
+                int* ierr) { *ierr = 1; };
   auto call = [&](const Args& a, Kernel k) {
     std::vector<double> work(100, 0.0), zwork(100, 0.0);
     std::vector<int> iwork(100, 0);
@@ -150,34 +158,40 @@ BOOST_AUTO_TEST_CASE(kernels_report_the_same_illegal_argument_index) {
     double t = a.t, h = a.h, y = 1.0, am = 1.0;
     int idid = 0;
     if (k == Kernel::fortran) {
-      pcsim_radau_integrate(fcn, jac, sol, nullptr, a.ijac, a.imas, a.itol, a.iout, a.n, &t,
-                            a.tend, &y, &h, &a.rtol, &a.atol, &am, a.ldm, work.data(), a.lwork,
-                            zwork.data(), a.lzwork, iwork.data(), a.liwork, &idid);
+      pcsim_radau_integrate(fcn, jac, sol, gfn, nullptr, a.ijac, a.imas, a.itol, a.iout, a.ng,
+                            a.n, &t, a.tend, &y, &h, &a.rtol, &a.atol, &am, a.ldm, work.data(),
+                            a.lwork, zwork.data(), a.lzwork, iwork.data(), a.liwork, &idid);
     } else {
-      idid = radau_port::integrate(fcn, jac, sol, nullptr, a.ijac, a.imas, a.itol, a.iout, a.n,
-                                   &t, a.tend, &y, &h, &a.rtol, &a.atol, &am, a.ldm, work.data(),
-                                   a.lwork, zwork.data(), a.lzwork, iwork.data(), a.liwork);
+      idid = radau_port::integrate(fcn, jac, sol, gfn, nullptr, a.ijac, a.imas, a.itol, a.iout,
+                                   a.ng, a.n, &t, a.tend, &y, &h, &a.rtol, &a.atol, &am, a.ldm,
+                                   work.data(), a.lwork, zwork.data(), a.lzwork, iwork.data(),
+                                   a.liwork);
     }
     return idid;
   };
   std::vector<std::pair<Args, int>> cases;
   Args a;
   cases.push_back({a, 0});  // the valid call integrates
-  a = {}; a.ijac = 2; cases.push_back({a, -5});
-  a = {}; a.imas = -1; cases.push_back({a, -6});
-  a = {}; a.itol = 3; cases.push_back({a, -7});
-  a = {}; a.iout = 2; cases.push_back({a, -8});
-  a = {}; a.n = 0; cases.push_back({a, -9});
-  a = {}; a.tend = std::nan(""); cases.push_back({a, -11});
-  a = {}; a.rtol = -1e-6; cases.push_back({a, -14});
-  a = {}; a.atol = 0.0; cases.push_back({a, -15});
+  a = {}; a.ijac = 2; cases.push_back({a, -6});
+  a = {}; a.imas = -1; cases.push_back({a, -7});
+  a = {}; a.itol = 3; cases.push_back({a, -8});
+  a = {}; a.iout = 2; cases.push_back({a, -9});
+  a = {}; a.ng = -1; cases.push_back({a, -10});
+  a = {}; a.n = 0; cases.push_back({a, -11});
+  a = {}; a.tend = std::nan(""); cases.push_back({a, -13});
+  a = {}; a.h = std::nan(""); cases.push_back({a, -15});
+  a = {}; a.ldm = 0; cases.push_back({a, -19});
   a = {}; a.imas = 1; a.n = 2; a.ldm = 1; a.lwork = 100; a.lzwork = 100; a.liwork = 100;
-  cases.push_back({a, -17});
-  a = {}; a.work_safe = 1.5; cases.push_back({a, -18});
-  a = {}; a.lwork = 40; cases.push_back({a, -19});
-  a = {}; a.lzwork = 1; cases.push_back({a, -21});
-  a = {}; a.iwork_nind2 = 2; cases.push_back({a, -22});
-  a = {}; a.liwork = 21; cases.push_back({a, -23});
+  cases.push_back({a, -19});
+  a = {}; a.work_safe = 1.5; cases.push_back({a, -20});
+  a = {}; a.lwork = 40; cases.push_back({a, -21});
+  a = {}; a.lzwork = 1; cases.push_back({a, -23});
+  a = {}; a.iwork_nind2 = 2; cases.push_back({a, -24});
+  a = {}; a.liwork = 32; cases.push_back({a, -25});
+  // tolerances are their own status, not an illegal argument
+  a = {}; a.rtol = -1e-6; cases.push_back({a, PCSIM_ODE_tolerance_too_small});
+  a = {}; a.atol = 0.0; cases.push_back({a, PCSIM_ODE_tolerance_too_small});
+  a = {}; a.rtol = 1e-16; cases.push_back({a, PCSIM_ODE_tolerance_too_small});
   for (const auto& [args, expected] : cases) {
     const int f = call(args, Kernel::fortran);
     const int c = call(args, Kernel::cpp);
@@ -328,7 +342,7 @@ BOOST_AUTO_TEST_CASE(every_failure_status_is_reachable) {
       OdeProblem nof = decay();
       nof.rhs = [](double, const double*, double*) { return false; };
       const RadauResult rf = run(k, nof, Eigen::VectorXd::Ones(1), 1.0);
-      BOOST_TEST((rf.status == RadauStatus::callback_error));
+      BOOST_TEST((rf.status == RadauStatus::rhs_failed));
       BOOST_TEST(contains(rf.message, "could not be evaluated"), rf.message);
     }
   }

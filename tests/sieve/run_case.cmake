@@ -1,11 +1,13 @@
 # Runs one case through `pcsim run` and compares its summary.json with the stored reference.
 # Usage: cmake -DPCSIM=... -DCOMPARE=... -DCASE=... -DREFERENCE=... -DOUT=...
-#              [-DSET=KEY=VALUE] [-DEXACT=ON] -P run_case.cmake
+#              [-DSET=KEY=VALUE] [-DSET2=KEY=VALUE] [-DEXACT=ON] -P run_case.cmake
 file(REMOVE_RECURSE "${OUT}")
 set(_set_args)
-if(SET)
-  set(_set_args --set "${SET}")
-endif()
+foreach(_s IN ITEMS SET SET2)
+  if(${_s})
+    list(APPEND _set_args --set "${${_s}}")
+  endif()
+endforeach()
 set(_exact)
 if(EXACT)
   set(_exact --exact)

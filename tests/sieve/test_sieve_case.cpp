@@ -11,11 +11,13 @@
 #include <unistd.h>
 
 #include "common/error.hpp"
-#include "sieve/case.hpp"
+#include "sim/case.hpp"
+#include "register.hpp"
 #include "sieve/settings.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;
+using namespace pcsim::sim;
 namespace fs = std::filesystem;
 
 namespace {
@@ -119,11 +121,12 @@ BOOST_AUTO_TEST_CASE(invalid_cases_are_rejected_naming_file_key_and_expectation)
       {"[parameters]\nJ1 = -1.0\n", "parameters.J1", "a positive number"},
       {"[parameters]\nm0 = -1.0\n", "parameters.m0", "a non-negative number"},
       {"[parameters]\nr = 0.0\n", "parameters.r", "a positive number"},
-      {"[solver]\nrtol = 0.0\n", "solver.rtol", "a positive number"},
-      {"[solver]\nt_end = -1.0\n", "solver.t_end", "a positive number"},
+      {"[solver]\nrtol = 0.0\n", "solver.rtol", "a number >= 1e-13"},
+      {"[solver]\nt_end = -1.0\n", "solver.t_end", "a number >= 1e-09"},
       {"[solver]\nkernel = \"julia\"\n", "solver.kernel", "\"fortran\" or \"cpp\""},
       {"[solver]\nform = \"index3\"\n", "solver.form", "\"ode\" or \"dae\""},
-      {"model = \"pendulum\"\n", "model", "\"sieve\""},
+      {"model = \"pendulm\"\n", "model", "a built-in model (pendulum, rolling_disk, sieve, slider_crank)"},
+      {"model = \"no/such/model.toml\"\n", "model", "a model file"},
       {"[output]\nsummary_periods = 2.5\n", "output.summary_periods", "an integer"},
       {"[initial]\nu = 0.2\n", "initial.u", "parameters.u0"},
       {"[constraints]\nlock_theta = true\n[initial]\ntheta = 0.01\n", "initial.theta", "0"},
@@ -148,18 +151,21 @@ BOOST_AUTO_TEST_CASE(bad_overrides_are_rejected_naming_file_key_and_expectation)
   BOOST_TEST(contains(msg, "expected a number"));
   msg = load_error(kCase, {{"parameters.nonsense", "1"}});
   BOOST_TEST(contains(msg, "'parameters.nonsense'"));
-  BOOST_TEST(contains(msg, "expected a key of the sieve case format"));
+  BOOST_TEST(contains(msg, "expected a key of the case format for the built-in model 'sieve'"));
   msg = load_error(kCase, {{"constraints.contact", "yes"}});
   BOOST_TEST(contains(msg, "expected true or false"));
   msg = load_error(kCase, {{"solver.rtol", "-1e-6"}});
   BOOST_TEST(contains(msg, "'solver.rtol'"));
-  BOOST_TEST(contains(msg, "expected a positive number"));
+  BOOST_TEST(contains(msg, "expected a number >= 1e-13"));
   // set_value on a loaded case validates the same way and leaves the case unchanged.
   Case c = load_case(kCase);
   BOOST_CHECK_THROW(set_value(c, {"parameters.r", "0"}), InputError);
   BOOST_TEST(settings_from_case(c).p.r == 0.1);
-  set_value(c, {"parameters.r", "0.2"});
-  BOOST_TEST(settings_from_case(c).p.r == 0.2);
+  set_value(c, {"parameters.r", "0.12"});
+  BOOST_TEST(settings_from_case(c).p.r == 0.12);
+  // Checks across keys name the key that breaks them: u0 >= r.
+  BOOST_CHECK_THROW(set_value(c, {"parameters.r", "0.2"}), InputError);
+  BOOST_TEST(contains(load_error(kCase, {{"parameters.r", "0.2"}}), "'parameters.u0'"));
 }
 
 BOOST_AUTO_TEST_CASE(malformed_toml_is_reported_with_file_and_line) {
@@ -170,12 +176,15 @@ BOOST_AUTO_TEST_CASE(malformed_toml_is_reported_with_file_and_line) {
 }
 
 BOOST_AUTO_TEST_CASE(numeric_keys_are_identified) {
-  BOOST_TEST(is_numeric_key("parameters.omega"));
-  BOOST_TEST(is_numeric_key("initial.s0"));
-  BOOST_TEST(is_numeric_key("output.summary_periods"));
-  BOOST_TEST(!is_numeric_key("constraints.contact"));
-  BOOST_TEST(!is_numeric_key("solver.kernel"));
-  BOOST_TEST(!is_numeric_key("parameters.nonsense"));
+  const Case c = load_case(kCase);
+  BOOST_TEST(is_numeric_key(c, "parameters.omega"));
+  BOOST_TEST(is_numeric_key(c, "initial.s0"));
+  BOOST_TEST(is_numeric_key(c, "output.summary_periods"));
+  BOOST_TEST(is_integer_key(c, "output.summary_periods"));
+  BOOST_TEST(!is_integer_key(c, "parameters.omega"));
+  BOOST_TEST(!is_numeric_key(c, "constraints.contact"));
+  BOOST_TEST(!is_numeric_key(c, "solver.kernel"));
+  BOOST_TEST(!is_numeric_key(c, "parameters.nonsense"));
 }
 
 // to_toml writes a file load_case reads back to an equal case: same name, same table (every

@@ -13,6 +13,7 @@
 
 using namespace pcsim;
 using namespace pcsim::sieve;
+using namespace pcsim::sim;
 
 namespace {
 

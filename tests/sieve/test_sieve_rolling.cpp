@@ -15,11 +15,13 @@
 #include <unistd.h>
 
 #include "csv_util.hpp"
-#include "sieve/case.hpp"
-#include "sieve/run.hpp"
+#include "sim/case.hpp"
+#include "register.hpp"
+#include "sim/run.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;
+using namespace pcsim::sim;
 namespace fs = std::filesystem;
 using pcsim::testing::Csv;
 

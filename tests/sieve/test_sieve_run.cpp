@@ -15,12 +15,14 @@
 #include <unistd.h>
 
 #include "common/error.hpp"
-#include "sieve/case.hpp"
-#include "sieve/run.hpp"
+#include "sim/case.hpp"
+#include "register.hpp"
+#include "sim/run.hpp"
 #include "csv_util.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;
+using namespace pcsim::sim;
 namespace fs = std::filesystem;
 using nlohmann::json;
 using pcsim::testing::Csv;
@@ -199,9 +201,9 @@ BOOST_AUTO_TEST_CASE(kernels_and_forms_agree) {
 // adaptive step sequences may differ by rounding amplified by the error control).
 BOOST_AUTO_TEST_CASE(geometric_and_analytic_form_runs_match_the_default_closed_form_run) {
   RunOptions geo;
-  geo.model_form = ModelForm::geometric;
+  geo.variant = "geometric";
   RunOptions an;
-  an.model_form = ModelForm::analytic;
+  an.variant = "analytic";
   const json a = run_case(short_case());
   const json g = run_case(short_case(), geo);
   const json h = run_case(short_case(), an);

@@ -14,7 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.hpp"
-#include "sieve/case.hpp"
+#include "sieve/source.hpp"
+#include "sim/case.hpp"
 
 namespace study_test {
 
@@ -27,13 +28,15 @@ inline std::filesystem::path scratch(const std::string& name) {
 }
 
 /// The sieve case with every documented default, and a short run (solver.t_end = t_end).
-inline pcsim::sieve::Case minimal_case(const std::filesystem::path& dir, double t_end = 0.2) {
+inline const bool kSieveRegistered = (pcsim::sieve::register_sieve(), true);
+
+inline pcsim::sim::Case minimal_case(const std::filesystem::path& dir, double t_end = 0.2) {
   const auto file = dir / "mini.toml";
   std::ofstream(file) << "model = \"sieve\"\n";
-  return pcsim::sieve::load_case(file, {{"solver.t_end", std::to_string(t_end)}});
+  return pcsim::sim::load_case(file, {{"solver.t_end", std::to_string(t_end)}});
 }
 
-inline double num(const pcsim::sieve::Case& c, const char* key) {
+inline double num(const pcsim::sim::Case& c, const char* key) {
   return c.table.at_path(key).value<double>().value();
 }
 
@@ -42,7 +45,7 @@ inline double num(const pcsim::sieve::Case& c, const char* key) {
 /// value-dependent 0-3 ms so that threads finish out of grid order. Counts its calls.
 struct FakeRunner {
   std::shared_ptr<std::atomic<int>> calls = std::make_shared<std::atomic<int>>(0);
-  nlohmann::json operator()(const pcsim::sieve::Case& c) const {
+  nlohmann::json operator()(const pcsim::sim::Case& c) const {
     ++*calls;
     const double w = num(c, "parameters.omega"), e = num(c, "parameters.e");
     const double s0 = num(c, "initial.s0");
@@ -63,6 +66,7 @@ struct FakeRunner {
     j["first_violation"] = {{"contact", nullptr}, {"rolling", nullptr}};
     j["constraint_residual_max"] = 1e-12;
     j["q_end"] = {{"x", 0.0}, {"y", 0.0}, {"theta", 0.0}, {"s", s0}, {"u", 0.15}, {"phi", 0.0}};
+    j["window_clipped"] = false;
     j["stats"] = {{"steps", 100 + static_cast<int>(w)}, {"accepted", 90}, {"rejected", 10},
                   {"f_evals", 400}, {"jacobians", 5}, {"lu_decompositions", 20},
                   {"wall_seconds", 1e-3 * static_cast<double>(*calls)}};

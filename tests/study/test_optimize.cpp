@@ -18,13 +18,13 @@ namespace {
 // omega = 250, s0 = 0, margin 1 - 1.5625/9.81, on the constraint's boundary.
 struct Setup {
   std::filesystem::path dir = study_test::scratch("optimize");
-  pcsim::sieve::Case base = study_test::minimal_case(dir);
+  pcsim::sim::Case base = study_test::minimal_case(dir);
   std::vector<Bounds> bounds = {parse_bounds("parameters.omega=200:300", base),
                                 parse_bounds("initial.s0=-0.3:0.3", base)};
   OptimizeOptions options() const {
     OptimizeOptions o;
-    o.constraints = {parse_constraint("amplitude.x>=1.5625e-3"),
-                     parse_constraint("rolling_margin>=0.2")};
+    o.constraints = {parse_constraint("amplitude.x>=1.5625e-3", base),
+                     parse_constraint("rolling_margin>=0.2", base)};
     o.max_evals = 200;
     o.xtol_rel = 1e-7;
     o.seed = 7;
@@ -86,7 +86,7 @@ BOOST_AUTO_TEST_CASE(failed_runs_are_recorded_and_avoided) {
   std::vector<Bounds> bounds = {parse_bounds("parameters.omega=200:1200", s.base),
                                 parse_bounds("initial.s0=-0.3:0.3", s.base)};
   auto o = s.options();
-  pcsim::sieve::set_value(s.base, {"parameters.omega", "950"});
+  pcsim::sim::set_value(s.base, {"parameters.omega", "950"});
   const auto r = optimize(s.base, bounds, study_test::FakeRunner{}, o);
   BOOST_REQUIRE(r.evaluations.size() > 2u);
   BOOST_TEST(r.evaluations[1].design[0] == 1050.0);
@@ -109,11 +109,13 @@ BOOST_AUTO_TEST_CASE(max_evals_is_a_hard_limit) {
 }
 
 BOOST_AUTO_TEST_CASE(bad_constraints_and_objectives_are_rejected) {
-  BOOST_CHECK_THROW(parse_constraint("rolling_margin>0.2"), pcsim::InputError);
-  BOOST_CHECK_THROW(parse_constraint("rolling_marg>=0.2"), pcsim::InputError);
-  BOOST_CHECK_THROW(parse_constraint("rolling_margin>=abc"), pcsim::InputError);
-  BOOST_CHECK_THROW(check_objective_name("contact"), pcsim::InputError);
-  const auto c = parse_constraint(" amplitude.x <= 1e-4 ");
+  const auto dir = study_test::scratch("optimize_names");
+  const pcsim::sim::Case base = study_test::minimal_case(dir);
+  BOOST_CHECK_THROW(parse_constraint("rolling_margin>0.2", base), pcsim::InputError);
+  BOOST_CHECK_THROW(parse_constraint("rolling_marg>=0.2", base), pcsim::InputError);
+  BOOST_CHECK_THROW(parse_constraint("rolling_margin>=abc", base), pcsim::InputError);
+  BOOST_CHECK_THROW(check_objective_name("contact", base), pcsim::InputError);
+  const auto c = parse_constraint(" amplitude.x <= 1e-4 ", base);
   BOOST_TEST(c.name == "amplitude.x");
   BOOST_TEST(!c.at_least);
   BOOST_TEST(c.value == 1e-4);

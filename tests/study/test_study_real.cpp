@@ -6,7 +6,7 @@
 
 #include <filesystem>
 
-#include "sieve/run.hpp"
+#include "sim/run.hpp"
 #include "study/incline.hpp"
 #include "study/optimize.hpp"
 #include "study/sweep.hpp"
@@ -16,8 +16,8 @@
 using namespace pcsim::study;
 
 namespace {
-pcsim::sieve::Case paper_case() {
-  return pcsim::sieve::load_case(std::filesystem::path(PCSIM_SOURCE_DIR) / "cases/sieve_1995.toml",
+pcsim::sim::Case paper_case() {
+  return pcsim::sim::load_case(std::filesystem::path(PCSIM_SOURCE_DIR) / "cases/sieve_1995.toml",
                                  {{"solver.t_end", "0.02"}});
 }
 }  // namespace
@@ -34,14 +34,14 @@ BOOST_AUTO_TEST_CASE(sweep_rows_equal_single_runs_exactly) {
   const auto t = read_csv(r.csv);
   BOOST_REQUIRE(t);
   BOOST_REQUIRE(t->rows.size() == g.size());
-  const auto& cols = summary_columns();
+  const auto cols = summary_columns(base);
   for (std::size_t i = 0; i < g.size(); ++i) {
     const auto c = g.point_case(base, i);
-    const auto single = pcsim::sieve::run_case(c);  // the same point, run on its own
+    const auto single = pcsim::sim::run_case(c);  // the same point, run on its own
     const std::vector<std::string> row_summary(t->rows[i].begin() + 2,
                                                t->rows[i].begin() + 2 + cols.size());
     // Exactly: the text of every field, hence the double it parses back to.
-    BOOST_TEST(row_summary == flatten_summary(single, study_test::num(c, "parameters.f")),
+    BOOST_TEST(row_summary == flatten_summary(single, c, cols),
                boost::test_tools::per_element());
     const auto f = numeric_fields(cols, row_summary);
     BOOST_TEST(f.at("R_u_min_over_weight") == single["R_u_min_over_weight"].get<double>());
@@ -114,8 +114,8 @@ BOOST_AUTO_TEST_CASE(optimizer_is_deterministic_and_within_bounds_on_the_paper_c
   BOOST_REQUIRE(r1.best);
   // The best case file reads back to the best design.
   const auto file = dir / "best.toml";
-  std::ofstream(file) << pcsim::sieve::to_toml(r1.best_case);
-  const auto back = pcsim::sieve::load_case(file);
+  std::ofstream(file) << pcsim::sim::to_toml(r1.best_case);
+  const auto back = pcsim::sim::load_case(file);
   BOOST_TEST(study_test::num(back, "parameters.omega") == r1.evaluations[*r1.best].design[0]);
   BOOST_TEST(study_test::num(back, "initial.s0") == r1.evaluations[*r1.best].design[1]);
 }

@@ -19,7 +19,7 @@ using study_test::slurp;
 namespace {
 
 // 3 x 4 = 12 points; the 4 with omega = 1100 fail.
-Grid test_grid(const pcsim::sieve::Case& base) {
+Grid test_grid(const pcsim::sim::Case& base) {
   return make_grid({"parameters.omega=260,280,1100", "initial.s0=-0.3:0.3:4"}, base);
 }
 
@@ -50,7 +50,7 @@ BOOST_AUTO_TEST_CASE(range_has_count_values_with_exact_ends_and_shortest_text) {
              boost::test_tools::per_element());
   // 0.1 steps must print as the decimals a user expects (no 0.30000000000000004), and
   // parse back to the same double.
-  const Axis b = parse_vary("initial.s0=0:1:11", base);
+  const Axis b = parse_vary("parameters.y0=0:1:11", base);
   BOOST_TEST(b.texts[3] == "0.3");
   BOOST_TEST(parse_vary("initial.s0=-0.4:0.4:9", base).texts[1] == "-0.3");
   BOOST_TEST(std::stod(b.texts[7]) == 0.7);
@@ -96,9 +96,9 @@ BOOST_AUTO_TEST_CASE(rows_are_in_grid_order_and_equal_single_runs_exactly) {
   BOOST_TEST(report.failed == 4u);
   const auto table = read_csv(report.csv);
   BOOST_REQUIRE(table);
-  BOOST_TEST(table->header == sweep_header(g), boost::test_tools::per_element());
+  BOOST_TEST(table->header == sweep_header(base, g), boost::test_tools::per_element());
   BOOST_REQUIRE(table->rows.size() == 12u);
-  const auto& cols = summary_columns();
+  const auto cols = summary_columns(base);
   for (std::size_t i = 0; i < g.size(); ++i) {
     const auto& row = table->rows[i];
     BOOST_TEST(std::vector<std::string>(row.begin(), row.begin() + 2) == g.texts(i),
@@ -148,6 +148,7 @@ BOOST_AUTO_TEST_CASE(resumed_sweep_equals_uninterrupted_and_runs_only_missing_po
   // An interrupted journal: header, 5 complete rows in completion (not grid) order, and the
   // first half of a sixth row without its newline (the write in flight).
   const auto resumed = study_test::scratch("sweep_resumed");
+  std::filesystem::copy_file(full / "sweep.key", resumed / "sweep.key");  // the same sweep
   {
     std::ofstream out(resumed / "sweep.csv", std::ios::binary);
     out << lines[0] << "\n" << lines[7] << "\n" << lines[2] << "\n" << lines[12] << "\n"
@@ -179,11 +180,13 @@ BOOST_AUTO_TEST_CASE(torn_header_and_malformed_rows_are_dropped_on_resume) {
   const auto lines = lines_of(reference);
 
   const auto torn = study_test::scratch("sweep_torn_header");
+  std::filesystem::copy_file(full / "sweep.key", torn / "sweep.key");
   std::ofstream(torn / "sweep.csv", std::ios::binary) << lines[0].substr(0, 10);
   BOOST_TEST(run_sweep(base, g, FakeRunner{}, opts(torn, 2)).dropped == 1u);
   BOOST_TEST(slurp(torn / "sweep.csv") == reference);
 
   const auto bad = study_test::scratch("sweep_malformed");
+  std::filesystem::copy_file(full / "sweep.key", bad / "sweep.key");
   std::ofstream(bad / "sweep.csv", std::ios::binary)
       << lines[0] << "\n" << lines[3] << "\n" << "280,0.1,garbage\n" << lines[5] << "\n";
   const auto r = run_sweep(base, g, FakeRunner{}, opts(bad, 2));
@@ -206,5 +209,53 @@ BOOST_AUTO_TEST_CASE(sweep_csv_of_another_sweep_is_refused_and_left_untouched) {
 }
 
 BOOST_AUTO_TEST_CASE(wall_time_is_not_a_column_so_tables_are_reproducible) {
-  for (const auto& c : summary_columns()) BOOST_TEST(c != "stats.wall_seconds");
+  const auto dir = study_test::scratch("columns");
+  for (const auto& c : summary_columns(study_test::minimal_case(dir))) BOOST_TEST(c != "stats.wall_seconds");
+}
+
+// Rows are reused only for the same effective case: after a change of the case (here a
+// parameter set on the command line) the old rows are refused, naming the change, and
+// restart computes every point again; the unchanged case still resumes.
+BOOST_AUTO_TEST_CASE(rows_of_another_case_are_never_reused) {
+  const auto dir = study_test::scratch("sweep_stale");
+  const auto base = study_test::minimal_case(dir);
+  const Grid g = test_grid(base);
+  BOOST_REQUIRE(run_sweep(base, g, FakeRunner{}, opts(dir, 2)).ok);
+  const std::string first = slurp(dir / "sweep.csv");
+  pcsim::sim::Case changed = base;
+  pcsim::sim::set_value(changed, {"parameters.e", "0.02"});
+  FakeRunner runner;
+  const auto refused = run_sweep(changed, g, runner, opts(dir, 2));
+  BOOST_TEST(!refused.ok);
+  BOOST_TEST(refused.error.find("e = 0.02") != std::string::npos, refused.error);
+  BOOST_TEST(refused.error.find("--restart") != std::string::npos, refused.error);
+  BOOST_TEST(*runner.calls == 0);
+  BOOST_TEST(slurp(dir / "sweep.csv") == first);
+  SweepOptions o = opts(dir, 2);
+  o.restart = true;
+  const auto fresh = run_sweep(changed, g, runner, o);
+  BOOST_REQUIRE_MESSAGE(fresh.ok, fresh.error);
+  BOOST_TEST(fresh.ran == g.size());
+  BOOST_TEST(slurp(dir / "sweep.csv") != first);
+  // Varying a key that the base case sets differently changes nothing: varied keys are not
+  // part of the key.
+  pcsim::sim::Case other_omega = changed;
+  pcsim::sim::set_value(other_omega, {"parameters.omega", "275"});
+  FakeRunner none;
+  const auto resumed = run_sweep(other_omega, g, none, opts(dir, 2));
+  BOOST_TEST(resumed.ok, resumed.error);
+  BOOST_TEST(*none.calls == 0);
+}
+
+BOOST_AUTO_TEST_CASE(duplicate_vary_values_are_refused) {
+  const auto dir = study_test::scratch("sweep_dup");
+  const auto base = study_test::minimal_case(dir);
+  std::string msg;
+  try {
+    parse_vary("parameters.omega=250,260,250.0", base);
+  } catch (const pcsim::InputError& e) {
+    msg = e.what();
+  }
+  BOOST_TEST(msg.find("250 appears twice") != std::string::npos, msg);
+  BOOST_CHECK_THROW(parse_vary("parameters.omega=250:250:3", base), pcsim::InputError);
 }

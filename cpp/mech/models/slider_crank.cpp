@@ -26,8 +26,8 @@ struct SliderCrank {
             {"A_y", ConstraintKind::holonomic, false},
             {"B_x", ConstraintKind::holonomic, false},
             {"B_y", ConstraintKind::holonomic, false},
-            {"B_y_copy", ConstraintKind::holonomic, false},
-            {"B_y_shifted", ConstraintKind::holonomic, false}};
+            {"B_y_copy", ConstraintKind::holonomic, false, /*active_by_default=*/false},
+            {"B_y_shifted", ConstraintKind::holonomic, false, /*active_by_default=*/false}};
   }
   template <class S> S kinetic_energy(const VecX<S>& q, const VecX<S>& qd, const S& t) const {
     const double J1 = m1 * l1 * l1 / 3.0;   // crank about the pivot

@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-namespace pcsim::sieve {
+namespace pcsim::sim {
 
 /// The running maximum of a signal (for a minimum, track the negated signal).
 struct RunningMax {
@@ -26,6 +26,21 @@ inline double parabola_vertex(double x0, double f0, double x1, double f1, double
   const double den = d1 - d2;
   if (den == 0.0) return std::numeric_limits<double>::quiet_NaN();
   return x1 - 0.5 * ((x1 - x0) * d1 - (x1 - x2) * d2) / den;
+}
+
+/// The value at the vertex of the parabola through three points (the largest value of a
+/// maximum's parabola); -inf if they are collinear or the parabola opens upward.
+inline double parabola_peak(double x0, double f0, double x1, double f1, double x2, double f2) {
+  const double x = parabola_vertex(x0, f0, x1, f1, x2, f2);
+  if (!std::isfinite(x)) return -std::numeric_limits<double>::infinity();
+  // Lagrange form at x.
+  const double l0 = (x - x1) * (x - x2) / ((x0 - x1) * (x0 - x2));
+  const double l1 = (x - x0) * (x - x2) / ((x1 - x0) * (x1 - x2));
+  const double l2 = (x - x0) * (x - x1) / ((x2 - x0) * (x2 - x1));
+  const double a = f0 / ((x0 - x1) * (x0 - x2)) + f1 / ((x1 - x0) * (x1 - x2)) +
+                   f2 / ((x2 - x0) * (x2 - x1));  // leading coefficient
+  if (!(a < 0)) return -std::numeric_limits<double>::infinity();
+  return l0 * f0 + l1 * f1 + l2 * f2;
 }
 
 /// Given samples f(s_0..s_K) on increasing s (K >= 2) of a smooth function available as
@@ -79,4 +94,21 @@ inline void refine_max(const std::vector<double>& s, const std::vector<double>& 
   }
 }
 
-}  // namespace pcsim::sieve
+/// refine_max, but only when the samples promise a value above best.value: the best sample
+/// exceeds it, or the parabola through the best sample and its neighbours (through the three
+/// end samples, when the best is an end) peaks above it. A periodic signal's later peaks then
+/// cost no evaluations unless they may beat the maximum found so far.
+inline void refine_max_if_promising(const std::vector<double>& s, const std::vector<double>& f,
+                                    const std::function<double(double)>& eval, RunningMax& best,
+                                    int iterations = 4) {
+  const int K = static_cast<int>(s.size()) - 1;
+  const int i = static_cast<int>(std::max_element(f.begin(), f.end()) - f.begin());
+  bool promising = f[i] > best.value || !std::isfinite(f[i]);
+  if (!promising) {
+    const int c = (i == 0) ? 1 : (i == K ? K - 1 : i);
+    promising = parabola_peak(s[c - 1], f[c - 1], s[c], f[c], s[c + 1], f[c + 1]) > best.value;
+  }
+  if (promising) refine_max(s, f, eval, best, iterations);
+}
+
+}  // namespace pcsim::sim

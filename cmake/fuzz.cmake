@@ -1,0 +1,35 @@
+# The case-file fuzz target (tests/fuzz): a deterministic mutation harness run by CTest for a
+# bounded time (10 s in Release, 60 s in Debug, where the sanitizers watch), and, with
+# -DPCSIM_FUZZ=ON and clang, a libFuzzer binary for hours of coverage-guided fuzzing
+# (scripts/fuzz.sh).
+if(NOT TARGET pcsim_sieve)
+  return()
+endif()
+add_library(pcsim_case_fuzz STATIC tests/fuzz/case_fuzz.cpp)
+target_link_libraries(pcsim_case_fuzz PUBLIC pcsim_sieve)
+target_compile_definitions(pcsim_case_fuzz PRIVATE PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+if(TARGET pcsim_modelfile)
+  target_link_libraries(pcsim_case_fuzz PUBLIC pcsim_modelfile)
+endif()
+add_executable(fuzz_cases tests/fuzz/fuzz_cases.cpp)
+target_link_libraries(fuzz_cases PRIVATE pcsim_case_fuzz)
+target_compile_definitions(fuzz_cases PRIVATE PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+if(CMAKE_BUILD_TYPE STREQUAL "Debug")
+  set(_fuzz_seconds 60)
+else()
+  set(_fuzz_seconds 10)
+endif()
+add_test(NAME fuzz_cases COMMAND fuzz_cases --seconds ${_fuzz_seconds} --seed 1995
+         WORKING_DIRECTORY "${PROJECT_SOURCE_DIR}")
+set_tests_properties(fuzz_cases PROPERTIES LABELS "fuzz" TIMEOUT 600)
+
+option(PCSIM_FUZZ "Build the libFuzzer case target (needs clang)" OFF)
+if(PCSIM_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "PCSIM_FUZZ needs clang (CXX=clang++); see scripts/fuzz.sh")
+  endif()
+  add_executable(fuzz_cases_libfuzzer tests/fuzz/libfuzzer_target.cpp)
+  target_link_libraries(fuzz_cases_libfuzzer PRIVATE pcsim_case_fuzz)
+  target_compile_options(fuzz_cases_libfuzzer PRIVATE -fsanitize=fuzzer)
+  target_link_options(fuzz_cases_libfuzzer PRIVATE -fsanitize=fuzzer)
+endif()

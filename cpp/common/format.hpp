@@ -1,0 +1,18 @@
+// The project's one number formatter: shortest round-trip decimals (std::to_chars) for every
+// number written to a file or a table, and significant-digit text for messages and reports.
+#pragma once
+
+#include <string>
+
+namespace pcsim {
+
+/// Shortest decimal text that parses back to exactly v ("0.3", "280", "1e-05", "inf", "nan").
+std::string format_number(double v);
+
+/// Appends format_number(v) to out without a temporary string (the CSV writer's hot path).
+void append_number(std::string& out, double v);
+
+/// v with `digits` significant digits (printf %.*g), for messages and reports.
+std::string format_significant(double v, int digits = 6);
+
+}  // namespace pcsim

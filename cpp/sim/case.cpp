@@ -1,0 +1,715 @@
+// Case files for any model: the schema (common keys, the model's parameters, coordinates and
+// constraints, the client's extras), --set overrides, defaults, validation, setup_of, to_toml.
+#include "sim/case.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "common/format.hpp"
+#include "sim/client.hpp"
+
+namespace pcsim::sim {
+
+namespace fs = std::filesystem;
+using Type = KeySpec::Type;
+
+namespace {
+
+constexpr const char* kFormatHelp = "the case format: README, \"Case files\"";
+const std::vector<std::string> kSections = {"parameters", "initial", "constraints", "solver",
+                                            "output"};
+
+std::string where(const fs::path& file) { return file.empty() ? std::string("<case>") : file.string(); }
+
+[[noreturn]] void fail(const fs::path& file, const std::string& key, const std::string& expected,
+                       const std::string& got = "") {
+  std::string msg = where(file) + ": key '" + key + "': expected " + expected;
+  if (!got.empty()) msg += ", got " + got;
+  throw InputError(msg);
+}
+
+std::string describe(const toml::node& n) {
+  std::ostringstream os;
+  switch (n.type()) {
+    case toml::node_type::string: os << '"' << *n.value<std::string>() << '"'; break;
+    case toml::node_type::integer: os << *n.value<int64_t>(); break;
+    case toml::node_type::floating_point: os << format_significant(*n.value<double>(), 17); break;
+    case toml::node_type::boolean: os << (*n.value<bool>() ? "true" : "false"); break;
+    case toml::node_type::table: os << "a table"; break;
+    case toml::node_type::array: os << "an array"; break;
+    default: os << "a date/time"; break;
+  }
+  return os.str();
+}
+
+const char* type_name(Type t) {
+  switch (t) {
+    case Type::number: return "a number";
+    case Type::integer: return "an integer";
+    case Type::boolean: return "a boolean (true or false)";
+    case Type::string: return "a string";
+  }
+  return "?";
+}
+
+std::string range_text(const KeySpec& k) {
+  const bool lo = std::isfinite(k.min), hi = std::isfinite(k.max);
+  if (!lo && !hi) return "";
+  std::string s;
+  if (lo) s += (k.min_exclusive ? "> " : ">= ") + format_number(k.min);
+  if (lo && hi) s += " and ";
+  if (hi) s += (k.max_exclusive ? "< " : "<= ") + format_number(k.max);
+  return s;
+}
+
+bool in_range(const KeySpec& k, double v) {
+  if (k.min_exclusive ? !(v > k.min) : !(v >= k.min)) return false;
+  if (k.max_exclusive ? !(v < k.max) : !(v <= k.max)) return false;
+  return true;
+}
+
+KeySpec number_key(std::string section, std::string name, std::string meaning,
+                   std::optional<double> def, double min = -INFINITY, bool min_excl = false) {
+  KeySpec k;
+  k.section = std::move(section);
+  k.name = std::move(name);
+  k.type = Type::number;
+  k.meaning = std::move(meaning);
+  k.number_default = def;
+  k.min = min;
+  k.min_exclusive = min_excl;
+  return k;
+}
+
+/// The largest integer a case may give for a count (summary periods): larger values are
+/// refused instead of wrapping around in an int.
+constexpr double kMaxCount = 1e6;
+/// The smallest relative tolerance a case may ask for (README, "Limits and failure behaviour").
+constexpr double kMinRtol = 1e-13;
+/// The shortest run a case may ask for, s.
+constexpr double kMinTEnd = 1e-9;
+/// The largest solver.max_steps (the default is 1e6).
+constexpr double kMaxSteps = 1e9;
+
+bool model_has_period(const ModelSource& m) {
+  ParameterValues p;
+  for (const auto& s : m.parameters()) p[s.name] = s.value;
+  return std::isfinite(m.period(p));
+}
+
+std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
+  std::vector<KeySpec> keys;
+  KeySpec k;
+  k.type = Type::string;
+  k.name = "name";
+  k.meaning = "the case name";
+  keys.push_back(k);
+  for (const auto& p : m.parameters()) {
+    KeySpec s = number_key("parameters", p.name,
+                           (p.meaning.empty() ? "model parameter" : p.meaning) +
+                               (p.unit.empty() ? "" : ", " + p.unit),
+                           p.value, p.min, p.min_exclusive);
+    s.max = p.max;
+    s.max_exclusive = p.max_exclusive;
+    keys.push_back(s);
+  }
+  for (const auto& c : m.coordinates()) {
+    keys.push_back(number_key("initial", c, "initial " + c, std::nullopt));
+    keys.push_back(number_key("initial", c + "_d", "initial velocity of " + c, std::nullopt));
+  }
+  for (const auto& c : m.constraints()) {
+    KeySpec s;
+    s.section = "constraints";
+    s.name = c.name;
+    s.type = Type::boolean;
+    s.meaning = c.meaning.empty() ? "impose constraint '" + c.name + "'" : c.meaning;
+    s.bool_default = c.active_by_default;
+    keys.push_back(s);
+  }
+  KeySpec kernel;
+  kernel.section = "solver";
+  kernel.name = "kernel";
+  kernel.type = Type::string;
+  kernel.meaning = "the kernel implementation";
+  kernel.choices = {"fortran", "cpp"};
+  kernel.string_default = "fortran";
+  keys.push_back(kernel);
+  KeySpec form = kernel;
+  form.name = "form";
+  form.meaning = "the formulation";
+  form.choices = {"ode", "dae"};
+  form.string_default = "ode";
+  keys.push_back(form);
+  KeySpec method = kernel;
+  method.name = "method";
+  method.meaning = "the integrator: Radau IIA, the explicit Dormand-Prince 8(5,3) pair, or auto "
+                   "(explicit until its stiffness test fires, then Radau)";
+  method.choices = {"radau", "explicit", "auto"};
+  method.string_default = "radau";
+  keys.push_back(method);
+  KeySpec la = kernel;
+  la.name = "linear_algebra";
+  la.meaning = "Radau's linear algebra: the project's small-matrix LU on the reduced "
+               "(second-order) systems where it is faster than LAPACK (auto), always the own LU, "
+               "or LAPACK's LU on the full system (the path before issue 14, reproducing earlier "
+               "results bit for bit)";
+  la.choices = {"auto", "own", "lapack"};
+  la.string_default = "auto";
+  keys.push_back(la);
+  keys.push_back(number_key("solver", "rtol",
+                            "relative tolerance; below 1e-13 the error estimates are dominated "
+                            "by the rounding of double precision",
+                            1e-6, kMinRtol, false));
+  keys.push_back(number_key("solver", "atol", "absolute tolerance", 1e-8, 0.0, true));
+  keys.push_back(number_key("solver", "t_end",
+                            "end time, s; at least 1e-9 s, so the run and its summary window are "
+                            "more than a rounding error long",
+                            10.0, kMinTEnd, false));
+  keys.push_back(number_key("solver", "h0", "initial step, s (0: automatic)", 0.0, 0.0, false));
+  KeySpec steps;
+  steps.section = "solver";
+  steps.name = "max_steps";
+  steps.type = Type::integer;
+  steps.meaning = "the most integration steps a run may take before it fails with 'too many "
+                  "steps' (and the time reached)";
+  steps.min = 1;
+  steps.max = kMaxSteps;
+  keys.push_back(steps);
+  keys.push_back(number_key("output", "dt", "output interval, s", 1e-3, 0.0, true));
+  if (model_has_period(m)) {
+    KeySpec sp;
+    sp.section = "output";
+    sp.name = "summary_periods";
+    sp.type = Type::integer;
+    sp.meaning = "excitation periods in the summary window";
+    sp.min = 1;
+    sp.max = kMaxCount;
+    keys.push_back(sp);
+  }
+  keys.push_back(number_key("output", "summary_time",
+                            "length of the summary window, s (from t_end back)", std::nullopt, 0.0,
+                            true));
+  if (client)
+    for (auto& e : client->extra_keys()) keys.push_back(std::move(e));
+  return keys;
+}
+
+const KeySpec* find(const std::vector<KeySpec>& keys, const std::string& dotted) {
+  for (const auto& k : keys)
+    if (k.dotted() == dotted) return &k;
+  return nullptr;
+}
+
+bool is_identifier(const std::string& s) {
+  static const std::regex id("[A-Za-z_][A-Za-z0-9_]*");
+  return std::regex_match(s, id);
+}
+
+// The table that holds `section` (dotted, e.g. "constraints.added"), created if asked.
+toml::table* section_table(toml::table& t, const std::string& section, bool create) {
+  toml::table* cur = &t;
+  std::size_t start = 0;
+  while (start <= section.size()) {
+    const std::size_t dot = section.find('.', start);
+    const std::string part = section.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    toml::node* n = cur->get(part);
+    if (!n) {
+      if (!create) return nullptr;
+      cur->insert(part, toml::table{});
+      n = cur->get(part);
+    }
+    cur = n->as_table();
+    if (!cur) return nullptr;
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return cur;
+}
+
+// Parses the text of a --set value as the key's type and stores it.
+void assign(const fs::path& file, toml::table& t, const KeySpec& k, const std::string& text) {
+  const std::string setting = "--set " + k.dotted() + "=" + text;
+  toml::table* target = k.section.empty() ? &t : section_table(t, k.section, true);
+  if (!target) fail(file, k.section, "a table [" + k.section + "]");
+  switch (k.type) {
+    case Type::number: {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0')
+        fail(file, k.dotted(), std::string("a number (") + k.meaning + ") in " + setting,
+             "'" + text + "'");
+      target->insert_or_assign(k.name, v);
+      break;
+    }
+    case Type::integer: {
+      char* end = nullptr;
+      errno = 0;
+      const long long v = std::strtoll(text.c_str(), &end, 10);
+      if (text.empty() || *end != '\0' || errno == ERANGE)
+        fail(file, k.dotted(), std::string("an integer (") + k.meaning + ") in " + setting,
+             "'" + text + "'");
+      target->insert_or_assign(k.name, int64_t{v});
+      break;
+    }
+    case Type::boolean:
+      if (text == "true") target->insert_or_assign(k.name, true);
+      else if (text == "false") target->insert_or_assign(k.name, false);
+      else
+        fail(file, k.dotted(), std::string("true or false (") + k.meaning + ") in " + setting,
+             "'" + text + "'");
+      break;
+    case Type::string: {
+      std::string s = text;
+      if (s.size() >= 2 && ((s.front() == '"' && s.back() == '"') ||
+                            (s.front() == '\'' && s.back() == '\'')))
+        s = s.substr(1, s.size() - 2);
+      target->insert_or_assign(k.name, s);
+      break;
+    }
+  }
+}
+
+// Checks one present key: type and range. Integers given for number keys become floats, so
+// the stored table is uniform.
+void check_value(const fs::path& file, const KeySpec& k, toml::table& section) {
+  toml::node* n = section.get(k.name);
+  const std::string key = k.dotted();
+  const std::string what = std::string(type_name(k.type)) + " (" + k.meaning + ")";
+  switch (k.type) {
+    case Type::number: {
+      double v;
+      if (n->is_integer()) {
+        v = static_cast<double>(*n->value<int64_t>());
+        section.insert_or_assign(k.name, v);
+      } else if (n->is_floating_point()) {
+        v = *n->value<double>();
+      } else {
+        fail(file, key, what, describe(*n));
+      }
+      if (!std::isfinite(v)) fail(file, key, "a finite number (" + k.meaning + ")", describe(*section.get(k.name)));
+      if (!in_range(k, v)) {
+        // The common ranges in the words users know; others as inequalities.
+        std::string what_range = "a number " + range_text(k);
+        if (k.min == 0 && !std::isfinite(k.max))
+          what_range = k.min_exclusive ? "a positive number, > 0" : "a non-negative number, >= 0";
+        fail(file, key, what_range + " (" + k.meaning + ")", describe(*section.get(k.name)));
+      }
+      break;
+    }
+    case Type::integer: {
+      if (!n->is_integer()) fail(file, key, what, describe(*n));
+      const double v = static_cast<double>(*n->value<int64_t>());
+      if (!in_range(k, v)) fail(file, key, "an integer " + range_text(k) + " (" + k.meaning + ")", describe(*n));
+      break;
+    }
+    case Type::boolean:
+      if (!n->is_boolean()) fail(file, key, what, describe(*n));
+      break;
+    case Type::string: {
+      if (!n->is_string()) fail(file, key, what, describe(*n));
+      if (!k.choices.empty()) {
+        const std::string s = *n->value<std::string>();
+        bool ok = false;
+        std::string list;
+        for (const auto& c : k.choices) {
+          ok = ok || s == c;
+          list += (list.empty() ? "\"" : " or \"") + c + "\"";
+        }
+        if (!ok) fail(file, key, list, describe(*n));
+      }
+      break;
+    }
+  }
+}
+
+// The added constraints of [constraints.added], validated as NAME = "expression".
+std::vector<AddedConstraint> added_constraints(const fs::path& file, const toml::table& t) {
+  std::vector<AddedConstraint> out;
+  const toml::node* con = t.get("constraints");
+  if (!con || !con->is_table()) return out;
+  const toml::node* add = con->as_table()->get("added");
+  if (!add) return out;
+  if (!add->is_table())
+    fail(file, "constraints.added", "a table of NAME = \"holonomic expression\"", describe(*add));
+  for (const auto& [k, v] : *add->as_table()) {
+    const std::string name(k.str());
+    if (!is_identifier(name))
+      fail(file, "constraints.added." + name, "a constraint name (letters, digits, _)");
+    if (!v.is_string())
+      fail(file, "constraints.added." + name, "a string: the holonomic constraint Phi(q, t) = 0, "
+                                              "e.g. \"s - 0.4\"", describe(v));
+    out.push_back({name, *v.value<std::string>()});
+  }
+  return out;
+}
+
+// Resolves the `model` entry of a case table: a built-in name, a model file or an inline table.
+std::shared_ptr<const ModelSource> resolve_model(const fs::path& file, const toml::table& t) {
+  const toml::node* m = t.get("model");
+  if (!m) {
+    auto s = find_builtin("sieve");  // the case format's default (architecture.md section 4)
+    if (!s) throw InputError(where(file) + ": key 'model': no model given");
+    return s;
+  }
+  if (m->is_table()) return load_inline_model(*m->as_table(), file);
+  if (!m->is_string())
+    fail(file, "model", "a built-in model name, a model file (\"models/x.toml\") or a [model] table",
+         describe(*m));
+  const std::string name = *m->value<std::string>();
+  const bool looks_like_file = name.find('/') != std::string::npos ||
+                               (name.size() > 5 && name.compare(name.size() - 5, 5, ".toml") == 0);
+  if (!looks_like_file) {
+    if (auto s = find_builtin(name)) return s;
+    std::string known;
+    for (const auto& n : builtin_names()) known += (known.empty() ? "" : ", ") + n;
+    fail(file, "model", "a built-in model (" + known + ") or a model file path ending in .toml",
+         "\"" + name + "\"");
+  }
+  fs::path path(name);
+  if (path.is_relative() && !file.empty()) path = file.parent_path() / path;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    fail(file, "model", "a model file (relative to the case file's directory)",
+         "\"" + name + "\", and " + path.string() + " is not a readable file");
+  return load_model_file(path);
+}
+
+struct Resolved {
+  std::shared_ptr<const ModelSource> model;
+  std::shared_ptr<const Client> client;
+  std::vector<KeySpec> keys;
+};
+
+Resolved resolve(const fs::path& file, const toml::table& t) {
+  Resolved r;
+  r.model = resolve_model(file, t);
+  if (const toml::node* m = t.get("model"); !m || m->is_string()) r.client = find_client(r.model->name());
+  const auto added = added_constraints(file, t);
+  if (!added.empty()) r.model = r.model->with_added_constraints(added, where(file));
+  r.keys = schema(*r.model, r.client.get());
+  return r;
+}
+
+// Unknown keys, misplaced tables, defaults, types and ranges, then the client's checks.
+void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) {
+  for (auto& [k, v] : t) {
+    const std::string key(k.str());
+    if (key == "model") continue;
+    bool is_section = false;
+    for (const auto& s : kSections) is_section = is_section || key == s;
+    if (is_section) {
+      if (!v.is_table()) fail(file, key, "a table [" + key + "]", describe(v));
+      for (auto& [k2, v2] : *v.as_table()) {
+        const std::string sub = key + "." + std::string(k2.str());
+        if (sub == "constraints.added") continue;  // checked by added_constraints()
+        if (!find(r.keys, sub)) {
+          std::string known;
+          for (const auto& spec : r.keys)
+            if (spec.section == key) known += (known.empty() ? "" : " ") + spec.name;
+          fail(file, sub, "a known key of the " + r.model->origin() + "; [" + key + "] has " +
+                              (known.empty() ? std::string("no keys") : "the keys: " + known) +
+                              " (" + kFormatHelp + ")",
+               "");
+        }
+        (void)v2;
+      }
+    } else if (!find(r.keys, key) || !find(r.keys, key)->section.empty()) {
+      fail(file, key,
+           "a known key: model, name, or one of the tables [parameters] [initial] "
+           "[constraints] [solver] [output]");
+    }
+  }
+  for (const auto& s : kSections)
+    if (!t.contains(s)) t.insert(s, toml::table{});
+  for (const auto& k : r.keys) {
+    toml::table* sec = k.section.empty() ? &t : section_table(t, k.section, true);
+    if (!sec) fail(file, k.section, "a table [" + k.section + "]");
+    if (!sec->contains(k.name)) {
+      if (k.number_default) sec->insert(k.name, *k.number_default);
+      else if (k.bool_default) sec->insert(k.name, *k.bool_default);
+      else if (k.string_default) sec->insert(k.name, *k.string_default);
+    }
+    if (sec->contains(k.name)) check_value(file, k, *sec);
+  }
+  if (t["solver"]["form"].value_or(std::string()) == "dae" &&
+      t["solver"]["method"].value_or(std::string()) == "explicit")
+    fail(file, "solver.method", "\"radau\" or \"auto\" with solver.form = \"dae\" (the DAE form "
+                                "has a singular mass matrix, which only Radau integrates)",
+         "\"explicit\"");
+  if (t["output"]["summary_periods"] && t["output"]["summary_time"])
+    fail(file, "output.summary_time",
+         "either output.summary_periods or output.summary_time, not both (the summary window)");
+  if (r.client) r.client->validate(file, t);
+}
+
+// Checks the parameter values by instantiating the model once (the model's own range checks),
+// so bad values are refused by key before any computation.
+void check_model_accepts(const fs::path& file, const Case& c) {
+  const Setup s = setup_of(c);
+  try {
+    c.model->instantiate(s.parameters, s.q0, 0.0, c.table, "");
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    static const std::regex param("parameter '([A-Za-z_][A-Za-z0-9_]*)'");
+    std::smatch m;
+    if (std::regex_search(msg, m, param))
+      throw InputError(where(file) + ": key 'parameters." + m[1].str() + "': " + msg);
+    throw InputError(where(file) + ": " + msg);
+  }
+}
+
+Case finish_case(const fs::path& file, toml::table t, const std::vector<Override>& overrides) {
+  // The model first (an override may change it), then the overrides by the model's schema.
+  for (const auto& o : overrides)
+    if (o.first == "model") t.insert_or_assign("model", o.second);
+  Resolved r = resolve(file, t);
+  bool added_changed = false;
+  for (const auto& o : overrides) {
+    if (o.first == "model") continue;
+    if (o.first.rfind("constraints.added.", 0) == 0) {
+      KeySpec k;
+      k.section = "constraints.added";
+      k.name = o.first.substr(std::string("constraints.added.").size());
+      k.type = Type::string;
+      k.meaning = "an added holonomic constraint";
+      if (!is_identifier(k.name)) fail(file, o.first, "a constraint name (letters, digits, _)");
+      assign(file, t, k, o.second);
+      added_changed = true;
+      continue;
+    }
+    const KeySpec* k = find(r.keys, o.first);
+    if (!k)
+      fail(file, o.first, "a key of the case format for the " + r.model->origin() + " (--set " +
+                              o.first + "=" + o.second + "; " + kFormatHelp + ")");
+    assign(file, t, *k, o.second);
+  }
+  if (added_changed) r = resolve(file, t);
+  fill_and_validate(file, t, r);
+  Case c;
+  c.source = file;
+  c.table = std::move(t);
+  c.model = r.model;
+  c.client = r.client;
+  if (auto n = c.table["name"].value<std::string>()) c.name = *n;
+  else c.name = file.empty() ? std::string("case") : file.stem().string();
+  check_model_accepts(file, c);
+  return c;
+}
+
+}  // namespace
+
+void check_toml_nesting(const std::string& text, const fs::path& file) {
+  // A scanner of TOML's structure, not a parser: it follows strings and comments, counts the
+  // parts of each dotted key (in headers and before '=') and the nesting of arrays and inline
+  // tables, and stops at the first excess, before the recursive parser ever sees the text.
+  enum class Str { none, basic, literal, ml_basic, ml_literal };
+  Str str = Str::none;
+  std::vector<char> stack;        // open '[' / '{' of values (and of a header line)
+  bool key_ctx = true, header = false, comment = false;
+  int parts = 1, line = 1;
+  std::string key_start;          // the first characters of the current key, for the message
+  auto refuse = [&](const std::string& what) {
+    throw InputError(where(file) + ":" + std::to_string(line) + ": key '" + key_start +
+                     "...': expected at most " +
+                     std::to_string(kMaxNesting) + " levels of nesting (a case needs at most 3), got " +
+                     what);
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') ++line;
+    if (comment) {
+      if (c == '\n') comment = false; else continue;
+    }
+    switch (str) {
+      case Str::basic:
+        if (c == '\\') ++i;
+        else if (c == '"' || c == '\n') str = Str::none;
+        continue;
+      case Str::literal:
+        if (c == '\'' || c == '\n') str = Str::none;
+        continue;
+      case Str::ml_basic:
+        if (c == '\\') ++i;
+        else if (text.compare(i, 3, "\"\"\"") == 0) { str = Str::none; i += 2; }
+        continue;
+      case Str::ml_literal:
+        if (text.compare(i, 3, "'''") == 0) { str = Str::none; i += 2; }
+        continue;
+      case Str::none: break;
+    }
+    if (key_ctx && key_start.size() < 40 && c != ' ' && c != '\t' && c != '\n' && c != '[')
+      key_start += c;
+    switch (c) {
+      case '#': comment = true; break;
+      case '"':
+        str = text.compare(i, 3, "\"\"\"") == 0 ? (i += 2, Str::ml_basic) : Str::basic;
+        break;
+      case '\'':
+        str = text.compare(i, 3, "'''") == 0 ? (i += 2, Str::ml_literal) : Str::literal;
+        break;
+      case '.':
+        if (key_ctx && ++parts > kMaxNesting) refuse(std::to_string(parts) + "+ dotted parts");
+        break;
+      case '=':
+        key_ctx = false;
+        break;
+      case '[': case '{':
+        if (stack.empty() && key_ctx && c == '[') {
+          header = true;  // a table header: its dotted parts are counted like a key's
+          break;
+        }
+        stack.push_back(c);
+        if (static_cast<int>(stack.size()) > kMaxNesting)
+          refuse(std::to_string(stack.size()) + "+ nested arrays or inline tables");
+        key_ctx = c == '{';
+        parts = 1;
+        if (c == '{') key_start.clear();
+        break;
+      case ']': case '}':
+        if (header && stack.empty()) { header = false; key_ctx = false; break; }
+        if (!stack.empty()) stack.pop_back();
+        break;
+      case ',':
+        if (!stack.empty() && stack.back() == '{') { key_ctx = true; parts = 1; key_start.clear(); }
+        break;
+      case '\n':
+        if (stack.empty()) { key_ctx = true; header = false; parts = 1; key_start.clear(); }
+        break;
+      default: break;
+    }
+  }
+}
+
+Override parse_override(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set '" + text + "': expected KEY=VALUE, e.g. parameters.omega=300");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+Case load_case(const fs::path& file, const std::vector<Override>& overrides) {
+  std::error_code ec;
+  if (fs::is_directory(file, ec)) throw InputError(file.string() + ": is a directory, not a case file");
+  if (!fs::exists(file, ec)) throw InputError(file.string() + ": no such case file");
+  std::string text;
+  {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw InputError(file.string() + ": cannot read the case file: " + std::strerror(errno));
+    std::ostringstream os;
+    os << in.rdbuf();
+    text = os.str();
+  }
+  return load_case_text(text, file, overrides);
+}
+
+Case load_case_text(const std::string& text, const fs::path& file,
+                    const std::vector<Override>& overrides) {
+  if (text.size() > kMaxCaseBytes)
+    throw InputError(where(file) + ": expected a case file of at most " +
+                     std::to_string(kMaxCaseBytes >> 20) + " MB, got " +
+                     std::to_string(text.size()) + " bytes");
+  check_toml_nesting(text, file);
+  toml::table t;
+  try {
+    t = toml::parse(text, file.string());
+  } catch (const toml::parse_error& err) {
+    std::ostringstream os;
+    os << where(file) << ":" << err.source().begin.line << ":" << err.source().begin.column
+       << ": malformed TOML: " << err.description();
+    throw InputError(os.str());
+  }
+  return finish_case(file, std::move(t), overrides);
+}
+
+Case case_from_table(toml::table table, const fs::path& source, const std::vector<Override>& overrides) {
+  return finish_case(source, std::move(table), overrides);
+}
+
+void set_value(Case& c, const Override& o) {
+  c = finish_case(c.source, c.table, {o});  // validates a copy: a rejected override changes nothing
+}
+
+std::vector<KeySpec> case_keys(const Case& c) { return schema(*c.model, c.client.get()); }
+
+bool is_numeric_key(const Case& c, const std::string& dotted_key) {
+  const auto keys = case_keys(c);
+  const KeySpec* k = find(keys, dotted_key);
+  return k && (k->type == Type::number || k->type == Type::integer);
+}
+
+bool is_integer_key(const Case& c, const std::string& dotted_key) {
+  const auto keys = case_keys(c);
+  const KeySpec* k = find(keys, dotted_key);
+  return k && k->type == Type::integer;
+}
+
+std::string to_toml(const Case& c, const std::string& title) {
+  toml::table t = c.table;
+  t.insert_or_assign("name", c.name);
+  if (const toml::node* m = t.get("model"); m && m->is_string()) {
+    const std::string name = *m->value<std::string>();
+    const bool file = name.find('/') != std::string::npos ||
+                      (name.size() > 5 && name.compare(name.size() - 5, 5, ".toml") == 0);
+    if (file) {
+      fs::path p(name);
+      if (p.is_relative() && !c.source.empty()) p = c.source.parent_path() / p;
+      std::error_code ec;
+      const fs::path abs = fs::weakly_canonical(p, ec);
+      t.insert_or_assign("model", (ec ? fs::absolute(p) : abs).string());
+    }
+  }
+  std::ostringstream os;
+  os << "# " << title << " (written by pcsim; every key explicit)\n" << t << "\n";
+  return os.str();
+}
+
+Setup setup_of(const Case& c) {
+  const toml::table& t = c.table;
+  const ModelSource& m = *c.model;
+  Setup s;
+  for (const auto& p : m.parameters()) s.parameters[p.name] = t["parameters"][p.name].value_or(p.value);
+  const int n = static_cast<int>(m.coordinates().size());
+  s.q0 = Eigen::VectorXd::Zero(n);
+  s.qd0 = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < n; ++i) {
+    const std::string& name = m.coordinates()[i];
+    s.q0[i] = t["initial"][name].value_or(0.0);
+    s.qd0[i] = t["initial"][name + "_d"].value_or(0.0);
+  }
+  for (const auto& con : m.constraints())
+    if (t["constraints"][con.name].value_or(con.active_by_default)) s.active.push_back(con.name);
+  s.kernel = *parse_kernel(t["solver"]["kernel"].value_or(std::string("fortran")));
+  s.form = t["solver"]["form"].value_or(std::string("ode")) == "dae" ? mech::Form::dae : mech::Form::ode;
+  s.method = *parse_ode_method(t["solver"]["method"].value_or(std::string("radau")));
+  const std::string la = t["solver"]["linear_algebra"].value_or(std::string("auto"));
+  s.linear_algebra = la == "own"      ? RadauOptions::LinearAlgebra::own_lu
+                     : la == "lapack" ? RadauOptions::LinearAlgebra::lapack
+                                      : RadauOptions::LinearAlgebra::automatic;
+  s.rtol = t["solver"]["rtol"].value_or(1e-6);
+  s.atol = t["solver"]["atol"].value_or(1e-8);
+  s.t_end = t["solver"]["t_end"].value_or(10.0);
+  s.h0 = t["solver"]["h0"].value_or(0.0);
+  s.max_steps = static_cast<long>(t["solver"]["max_steps"].value_or(int64_t{1000000}));
+  s.dt = t["output"]["dt"].value_or(1e-3);
+  s.period = m.period(s.parameters);
+  if (auto k = t["output"]["summary_periods"].value<int64_t>()) {
+    s.window.periods = static_cast<int>(*k);
+  } else if (auto w = t["output"]["summary_time"].value<double>()) {
+    s.window.time = *w;
+  } else if (std::isfinite(s.period)) {
+    s.window.periods = 5;  // the default window: the last 5 excitation periods
+  } else {
+    s.window.time = s.t_end;  // no excitation period: the whole run
+  }
+  if (c.client) c.client->adjust(t, s);
+  return s;
+}
+
+}  // namespace pcsim::sim

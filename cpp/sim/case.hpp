@@ -1,0 +1,125 @@
+// Case files for any model (TOML): loading, --set overrides, the model's keys and the common
+// ones, defaults, validation, and the typed setup a run reads. The keys are the contracts of
+// shared/design/architecture.md section 4 (the sieve) and model-files.md (any model).
+#pragma once
+
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <toml++/toml.h>
+
+#include "common/kernel.hpp"
+#include "mech/status.hpp"
+#include "ode/integrate.hpp"
+#include "sim/model_source.hpp"
+
+namespace pcsim::sim {
+
+class Client;
+
+/// What one case key must hold.
+struct KeySpec {
+  enum class Type { number, integer, boolean, string };
+  std::string section;  ///< "" for the top level, e.g. "parameters", "constraints.added"
+  std::string name;
+  Type type = Type::number;
+  std::string meaning;  ///< unit and meaning, for messages
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_exclusive = false, max_exclusive = false;
+  std::vector<std::string> choices;  ///< allowed strings (empty: any)
+  /// The default filled in when the case does not set the key (none: the key stays absent).
+  std::optional<double> number_default;
+  std::optional<bool> bool_default;
+  std::optional<std::string> string_default;
+
+  std::string dotted() const { return section.empty() ? name : section + "." + name; }
+};
+
+/// A validated case: the TOML table after overrides and defaults, the model it names and the
+/// model's client (extra keys, verdicts and report; null for most models). Immutable once
+/// loaded; copy it to vary a design.
+struct Case {
+  std::string name;                          ///< the case name (file stem unless set)
+  std::filesystem::path source;              ///< the file it was loaded from ("" in memory)
+  toml::table table;                         ///< every key, defaults filled in
+  std::shared_ptr<const ModelSource> model;  ///< the model, with any added constraints
+  std::shared_ptr<const Client> client;      ///< model-specific extras, or null
+};
+
+/// One override in `--set KEY=VALUE` form: a dotted key and the value as text.
+using Override = std::pair<std::string, std::string>;
+
+/// The deepest nesting a case file may have (dotted key parts, nested arrays or inline tables):
+/// a case needs 3; deeper text is refused before the (recursive) TOML parser sees it.
+inline constexpr int kMaxNesting = 16;
+/// The largest case file pcsim reads.
+inline constexpr std::size_t kMaxCaseBytes = 16u << 20;
+
+/// Throws pcsim::InputError (naming the file, the line and the key) if the TOML text nests
+/// deeper than kMaxNesting.
+void check_toml_nesting(const std::string& text, const std::filesystem::path& file);
+
+/// Splits "KEY=VALUE"; throws pcsim::InputError if there is no '='.
+Override parse_override(const std::string& text);
+
+/// Loads the case file, resolves its model (a built-in name, a model file relative to the case
+/// file, or an inline [model] table), applies the overrides in order, fills the defaults and
+/// validates every key. Throws pcsim::InputError naming the file, the key and what was expected.
+Case load_case(const std::filesystem::path& file, const std::vector<Override>& overrides = {});
+
+/// The same from the text of a case file (`file` names it in messages and anchors model paths).
+Case load_case_text(const std::string& text, const std::filesystem::path& file,
+                    const std::vector<Override>& overrides = {});
+
+/// The same from a table in memory (`source` names it in messages and anchors model paths).
+Case case_from_table(toml::table table, const std::filesystem::path& source,
+                     const std::vector<Override>& overrides = {});
+
+/// Applies one override with the same validation; a rejected override leaves the case as it was.
+void set_value(Case& c, const Override& o);
+
+/// The schema of the case: every key it may hold (common keys, the model's, the client's).
+std::vector<KeySpec> case_keys(const Case& c);
+
+/// True if `dotted_key` names a numeric (number or integer) key of this case.
+bool is_numeric_key(const Case& c, const std::string& dotted_key);
+/// True if `dotted_key` names an integer key of this case.
+bool is_integer_key(const Case& c, const std::string& dotted_key);
+
+/// The case as TOML text that load_case reads back to an equal case, wherever it is written (a
+/// model file is named by its absolute path). `title` is the comment on the first line.
+std::string to_toml(const Case& c, const std::string& title = "pcsim case");
+
+/// The summary window of a run.
+struct WindowSpec {
+  int periods = 0;      ///< > 0: the last `periods` excitation periods
+  double time = 0.0;    ///< > 0 (periods == 0): the last `time` seconds
+};
+
+/// The typed view of a validated case: what a run needs, as numbers.
+struct Setup {
+  ParameterValues parameters;           ///< every parameter, set or default
+  Eigen::VectorXd q0, qd0;              ///< initial coordinates and velocities
+  std::vector<std::string> active;      ///< active constraints, in the model's offer order
+  Kernel kernel = Kernel::fortran;
+  mech::Form form = mech::Form::ode;
+  OdeMethod method = OdeMethod::radau;
+  RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
+  double rtol = 1e-6, atol = 1e-8, t_end = 10.0, h0 = 0.0;
+  long max_steps = 1000000;
+  double dt = 1e-3;                     ///< time-series interval
+  WindowSpec window;
+  double period = std::numeric_limits<double>::quiet_NaN();  ///< excitation period, NaN if none
+};
+
+/// Reads the setup out of a validated case (the client may adjust it, e.g. the sieve's s0).
+Setup setup_of(const Case& c);
+
+}  // namespace pcsim::sim

@@ -1,0 +1,72 @@
+// A model's client: what one model adds to the generic case and run layers (the sieve's extra
+// case keys, its working-condition verdicts, its summary keys, report and sweep columns).
+// Every hook has a neutral default, so a model without a client runs as any model does.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include "mech/simulation.hpp"
+#include "sim/case.hpp"
+
+namespace pcsim::sim {
+
+/// The generic summary's view of the window extremes, by column name.
+struct ColumnExtremes {
+  double min = 0.0, max = 0.0;
+  double t_min = 0.0, t_max = 0.0;
+};
+
+/// Watches one run on behalf of a client (created per run; not shared between threads).
+class ClientMonitor {
+ public:
+  virtual ~ClientMonitor() = default;
+  /// Called at t0 (v.t_prev == v.t) and after every accepted step, before the generic monitor.
+  /// Returns false to end the run there (e.g. the sieve's roller left the deck); the run then
+  /// writes what was computed up to stop_time(), marked incomplete, and fails with stop_reason().
+  virtual bool observe(const mech::StepView& v) = 0;
+  virtual double stop_time() const { return 0.0; }
+  virtual std::string stop_reason() const { return ""; }
+  /// Adds the client's keys to the summary after a successful run. `extremes` holds the window
+  /// extremes of every column (coordinates, velocities, reactions, outputs) by name.
+  virtual void finish(const mech::SimulationResult& result,
+                      const std::map<std::string, ColumnExtremes>& extremes,
+                      nlohmann::json& summary) = 0;
+};
+
+class Client {
+ public:
+  virtual ~Client() = default;
+  /// Case keys the client adds (e.g. the sieve's initial.s0).
+  virtual std::vector<KeySpec> extra_keys() const { return {}; }
+  /// Checks across keys, after the generic validation; throws pcsim::InputError naming the
+  /// file and the key.
+  virtual void validate(const std::filesystem::path& file, const toml::table& t) const {}
+  /// Adjusts the typed setup to the client's keys (e.g. initial.s0 -> q0 of s).
+  virtual void adjust(const toml::table& t, Setup& s) const {}
+  /// The client's monitor for one run, or null.
+  virtual std::unique_ptr<ClientMonitor> monitor(const Case& c, const Setup& s) const {
+    return nullptr;
+  }
+  /// The engineer's report for `pcsim run`; "" for the generic one.
+  virtual std::string report(const Case& c, const nlohmann::json& summary) const { return ""; }
+  /// The summary columns of sweep.csv; empty for the generic ones.
+  virtual std::vector<std::string> sweep_columns() const { return {}; }
+  /// Derived sweep columns (e.g. the sieve's margins) for a summary: name -> value.
+  virtual std::map<std::string, double> derived_columns(const nlohmann::json& summary,
+                                                        const Case& c) const {
+    return {};
+  }
+};
+
+/// Associates a client with a built-in model name (the sieve registers one). Thread-safe.
+void register_client(const std::string& model_name, std::shared_ptr<const Client> client);
+/// The client of a model name, or null.
+std::shared_ptr<const Client> find_client(const std::string& model_name);
+
+}  // namespace pcsim::sim

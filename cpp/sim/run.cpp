@@ -1,0 +1,358 @@
+// run_case for any model: the generic monitor (time-series rows, window extremes of every
+// column), the summary, the output directory, and the generic report.
+#include "sim/run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include "common/error.hpp"
+#include "common/files.hpp"
+#include "common/format.hpp"
+#include "mech/simulation.hpp"
+#include "sim/client.hpp"
+#include "sim/extremes.hpp"
+
+namespace pcsim::sim {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The time-series rows, the window extremes of every column, written as the run goes.
+class Monitor {
+ public:
+  Monitor(int n, int n_out, double w0, double w1, double dt, double t_end, OutputStream* csv)
+      : n_(n), n_out_(n_out), w0_(w0), w1_(w1), dt_(dt), t_end_(t_end), csv_(csv),
+        maxima_(3 * n + n_out), minima_(3 * n + n_out) {
+    last_row_ = static_cast<long>(std::floor(t_end / dt * (1 + 1e-12)));
+    if (last_row_ * dt < t_end * (1 - 1e-12)) ++last_row_;
+  }
+
+  int columns() const { return 3 * n_ + n_out_; }
+
+  double value(const mech::Sample& s, int j) const {
+    if (j < n_) return s.q[j];
+    if (j < 2 * n_) return s.qd[j - n_];
+    if (j < 3 * n_) return s.R[j - 2 * n_];
+    return s.derived[j - 3 * n_];
+  }
+
+  bool observe(const mech::StepView& v) {
+    if (v.t == v.t_prev) {  // the consistent initial state
+      const mech::Sample s0 = v.at(v.t);
+      if (w0_ <= v.t) offer(s0);
+      while (csv_ && next_row_ <= last_row_ && row_time(next_row_) <= v.t) {
+        add_row(s0);
+        ++next_row_;
+      }
+      return true;
+    }
+    if (v.t > w0_) window(v);
+    while (csv_ && next_row_ <= last_row_ && row_time(next_row_) <= v.t * (1 + 1e-14)) {
+      add_row(v.sample(std::min(std::max(row_time(next_row_), v.t_prev), v.t)));
+      ++next_row_;
+    }
+    return true;
+  }
+
+  std::map<std::string, ColumnExtremes> extremes(const std::vector<std::string>& names) const {
+    std::map<std::string, ColumnExtremes> out;
+    for (int j = 0; j < columns(); ++j) {
+      ColumnExtremes e;
+      e.max = maxima_[j].value;
+      e.t_max = maxima_[j].time;
+      e.min = -minima_[j].value;
+      e.t_min = minima_[j].time;
+      out[names[j]] = e;
+    }
+    return out;
+  }
+
+  long rows_written() const { return next_row_; }
+
+ private:
+  double row_time(long k) const { return k < last_row_ ? k * dt_ : t_end_; }
+
+  void offer(const mech::Sample& s) {
+    for (int j = 0; j < columns(); ++j) {
+      const double x = value(s, j);
+      maxima_[j].offer(x, s.t);
+      minima_[j].offer(-x, s.t);
+    }
+  }
+
+  // One step inside the window: K+1 samples, then each column's extremes refined on the dense
+  // output where the samples promise a new extreme (sim/extremes.hpp).
+  void window(const mech::StepView& v) {
+    const double a = std::max(v.t_prev, w0_), b = v.t;
+    if (!(b > a)) return;
+    constexpr int K = 4;
+    // Refinement iterations: a smooth extremum converges in 3-4 parabolic steps and stops on
+    // its bracket; a kink (the minimum of |R_s|/R_u where R_s changes sign) converges only
+    // linearly, by the bracket halvings of refine_max, and needs up to ~20 for 1e-6 of a step.
+    constexpr int kIter = 24;
+    s_.resize(K + 1);
+    smp_.resize(K + 1);  // assigned in place: the samples' storage is reused
+    for (int k = 0; k <= K; ++k) {
+      s_[k] = (k == K) ? b : a + (b - a) * k / K;
+      smp_[k] = v.sample(s_[k]);
+    }
+    f_.resize(K + 1);
+    for (int j = 0; j < columns(); ++j) {
+      for (int k = 0; k <= K; ++k) f_[k] = value(smp_[k], j);
+      refine_max_if_promising(s_, f_, [&](double x) { return value(v.sample(x), j); }, maxima_[j], kIter);
+      for (int k = 0; k <= K; ++k) f_[k] = -f_[k];
+      refine_max_if_promising(s_, f_, [&](double x) { return -value(v.sample(x), j); }, minima_[j], kIter);
+    }
+  }
+
+  void add_row(const mech::Sample& s) {
+    std::string& out = csv_->buffer();
+    append_number(out, s.t);
+    for (int j = 0; j < columns(); ++j) {
+      out += ',';
+      append_number(out, value(s, j));
+    }
+    out += ',';
+    append_number(out, s.residual_pos);
+    out += ',';
+    append_number(out, s.residual_vel);
+    out += '\n';
+    csv_->maybe_flush();
+  }
+
+  int n_, n_out_;
+  double w0_, w1_, dt_, t_end_;
+  OutputStream* csv_;
+  long next_row_ = 0, last_row_ = 0;
+  std::vector<RunningMax> maxima_, minima_;  // minima hold the negated signal
+  std::vector<double> s_, f_;
+  std::vector<mech::Sample> smp_;
+};
+
+nlohmann::json null_if_nan(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+std::vector<std::string> timeseries_columns(const Case& c) {
+  const ModelSource& m = *c.model;
+  std::vector<std::string> cols = {"t"};
+  for (const auto& q : m.coordinates()) cols.push_back(q);
+  for (const auto& q : m.coordinates()) cols.push_back(q + "_d");
+  for (const auto& q : m.coordinates()) cols.push_back("R_" + q);
+  for (const auto& o : m.outputs()) cols.push_back(o);
+  cols.push_back("residual_pos");
+  cols.push_back("residual_vel");
+  return cols;
+}
+
+nlohmann::json run_case(const Case& c, const RunOptions& options) {
+  const Setup set = setup_of(c);
+  const ModelSource& source = *c.model;
+  const int n = static_cast<int>(source.coordinates().size());
+  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+
+  const double rows = std::floor(set.t_end / set.dt) + 2;
+  if (options.out_dir && !(rows <= kMaxOutputRows))
+    throw InputError(where + ": key 'output.dt': expected at most " +
+                     format_number(kMaxOutputRows) + " time-series rows (solver.t_end / output.dt), "
+                     "got " + format_significant(rows, 3) + " rows; raise output.dt");
+
+  // The output directory first: a second run into it is refused before any computation.
+  std::unique_ptr<OutputDirectory> out;
+  OutputStream csv;
+  if (options.out_dir) {
+    out = std::make_unique<OutputDirectory>(*options.out_dir);
+    csv = out->open("timeseries.csv");
+    std::string& h = csv.buffer();
+    const auto cols = timeseries_columns(c);
+    for (std::size_t i = 0; i < cols.size(); ++i) h += (i ? "," : "") + cols[i];
+    h += '\n';
+  }
+
+  const auto model = source.instantiate(set.parameters, set.q0, 0.0, c.table, options.variant);
+
+  mech::SimulationOptions so;
+  so.kernel = set.kernel;
+  so.form = set.form;
+  so.method = set.method;
+  so.linear_algebra = set.linear_algebra;
+  so.t0 = 0.0;
+  so.t_end = set.t_end;
+  so.rtol = set.rtol;
+  so.atol = set.atol;
+  so.h0 = set.h0;
+  so.max_steps = set.max_steps;
+  so.active_constraints = set.active;
+  so.stabilization = mech::Stabilization::projection;
+
+  // The summary window.
+  double w0 = 0.0;
+  bool clipped = false;
+  if (set.window.periods > 0) {
+    const double len = set.window.periods * set.period;
+    clipped = !(len <= set.t_end);
+    w0 = clipped ? 0.0 : set.t_end - len;
+  } else {
+    clipped = !(set.window.time <= set.t_end);
+    w0 = clipped ? 0.0 : set.t_end - set.window.time;
+  }
+  const double w1 = set.t_end;
+
+  const int n_out = static_cast<int>(source.outputs().size());
+  Monitor mon(n, n_out, w0, w1, set.dt, set.t_end, out ? &csv : nullptr);
+  std::unique_ptr<ClientMonitor> client_mon = c.client ? c.client->monitor(c, set) : nullptr;
+
+  bool stopped_by_client = false;
+  const auto t_start = std::chrono::steady_clock::now();
+  const mech::SimulationResult res = mech::simulate(
+      *model, set.q0, set.qd0, so, [&](const mech::StepView& v) {
+        if (client_mon && !client_mon->observe(v)) {
+          stopped_by_client = true;
+          return false;
+        }
+        return mon.observe(v);
+      });
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  if ((res.status == mech::SimulationStatus::invalid_model &&
+       res.issue != mech::ModelIssue::non_finite) ||
+      res.status == mech::SimulationStatus::inconsistent_start) {
+    throw InputError(where + ": the " + source.origin() + " with the active constraints cannot be "
+                     "simulated: " + res.message);
+  }
+  const bool complete = res.status == mech::SimulationStatus::success;
+  if (!complete && !(stopped_by_client && res.status == mech::SimulationStatus::stopped_by_observer)) {
+    throw NumericalError("case '" + c.name + "': the simulation failed at t = " +
+                             format_significant(res.t, 9) + " s (" + to_string(res.status) +
+                             "): " + res.message,
+                         res.t);
+  }
+
+  const auto cols = timeseries_columns(c);
+  const std::vector<std::string> value_cols(cols.begin() + 1, cols.end() - 2);
+  const auto ext = mon.extremes(value_cols);
+
+  nlohmann::json j;
+  j["case"] = c.name;
+  j["model"] = source.name();
+  if (!options.variant.empty()) j["model_variant"] = options.variant;
+  j["kernel"] = to_string(set.kernel);
+  j["form"] = to_string(set.form);
+  j["method"] = to_string(set.method);
+  j["methods_used"] = res.used_explicit && res.used_radau
+                          ? "explicit, then radau from t = " + format_significant(res.switch_time, 9)
+                          : (res.used_explicit ? "explicit" : "radau");
+  j["t_end"] = set.t_end;
+  j["window"] = {w0, w1};
+  j["window_clipped"] = clipped;
+  if (set.window.periods > 0) {
+    j["summary_periods"] = set.window.periods;
+    j["period"] = set.period;
+  } else {
+    j["summary_time"] = set.window.time;
+  }
+  j["stats"] = {{"steps", res.stats.steps},
+                {"accepted", res.stats.accepted},
+                {"rejected", res.stats.rejected},
+                {"f_evals", res.stats.f_evals},
+                {"jacobians", res.stats.jacobians},
+                {"lu_decompositions", res.stats.lu_decompositions},
+                {"wall_seconds", wall}};
+  nlohmann::json qe = nlohmann::json::object(), qde = nlohmann::json::object();
+  for (int i = 0; i < n; ++i) {
+    qe[source.coordinates()[i]] = res.q_end[i];
+    qde[source.coordinates()[i] + "_d"] = res.qd_end[i];
+  }
+  j["q_end"] = qe;
+  j["qd_end"] = qde;
+  nlohmann::json ex = nlohmann::json::object();
+  for (const auto& name : value_cols) {
+    const ColumnExtremes& e = ext.at(name);
+    ex[name] = {{"min", null_if_nan(e.min)},
+                {"max", null_if_nan(e.max)},
+                {"amplitude", null_if_nan(0.5 * (e.max - e.min))}};
+  }
+  j["extremes"] = ex;
+  j["constraint_residual_max"] = std::max(res.residual_pos_max, res.residual_vel_max);
+  j["constraints"] = set.active;
+  nlohmann::json par = nlohmann::json::object();
+  for (const auto& [k, v] : set.parameters) par[k] = v;
+  j["parameters"] = par;
+  j["output_dt"] = set.dt;
+  j["initial_correction"] = {{"position", res.initial_correction_pos},
+                             {"velocity", res.initial_correction_vel}};
+  j["complete"] = complete;
+  if (client_mon) client_mon->finish(res, ext, j);
+  if (!complete) {
+    // The model's client ended the run: what was computed up to then is written, marked as
+    // such, and the run fails (exit 3) with the client's reason.
+    j["stopped"] = {{"t", client_mon->stop_time()}, {"reason", client_mon->stop_reason()}};
+    j["t_reached"] = res.t;
+  }
+
+  if (out) {
+    csv.close();
+    out->write("summary.json", j.dump(2) + "\n");
+    out->commit();
+  }
+  if (!complete)
+    throw NumericalError("case '" + c.name + "': " + client_mon->stop_reason() +
+                             (out ? "; wrote what was computed up to then to " +
+                                        options.out_dir->string() + ", marked \"complete\": false"
+                                  : std::string()),
+                         client_mon->stop_time());
+  return j;
+}
+
+std::string human_report(const Case& c, const nlohmann::json& s) {
+  if (c.client) {
+    std::string r = c.client->report(c, s);
+    if (!r.empty()) return r;
+  }
+  std::ostringstream os;
+  os << "pcsim run: case '" << s["case"].get<std::string>() << "' (" << c.model->origin() << ", "
+     << s["kernel"].get<std::string>() << " kernel, " << s["form"].get<std::string>()
+     << " form), " << format_number(s["t_end"].get<double>()) << " s of motion\n";
+  os << "  constraints:";
+  if (s["constraints"].empty()) os << " none";
+  for (const auto& n : s["constraints"]) os << ' ' << n.get<std::string>();
+  os << "\n";
+  const double cp = s["initial_correction"]["position"].get<double>();
+  const double cv = s["initial_correction"]["velocity"].get<double>();
+  if (cp > 0 || cv > 0)
+    os << "  initial state projected onto the constraints: |dq| = " << format_significant(cp, 3)
+       << ", |dq_d| = " << format_significant(cv, 3) << "\n";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "  summary window: t = %.6g .. %.6g s%s\n", s["window"][0].get<double>(),
+                s["window"][1].get<double>(), s["window_clipped"].get<bool>() ? " (clipped to the run)" : "");
+  os << buf;
+  os << "  over the window:         min           max     amplitude\n";
+  const auto cols = timeseries_columns(c);
+  for (std::size_t k = 1; k + 2 < cols.size(); ++k) {
+    const std::string& name = cols[k];
+    if (!s["extremes"].contains(name)) continue;
+    const auto& e = s["extremes"][name];
+    auto num = [](const nlohmann::json& v) {
+      return v.is_null() ? std::string("n/a") : format_significant(v.get<double>(), 6);
+    };
+    std::snprintf(buf, sizeof buf, "    %-14s %13s %13s %13s\n", name.c_str(), num(e["min"]).c_str(),
+                  num(e["max"]).c_str(), num(e["amplitude"]).c_str());
+    os << buf;
+  }
+  const auto& st = s["stats"];
+  os << "  solver: " << st["steps"] << " steps (" << st["accepted"] << " accepted, "
+     << st["rejected"] << " rejected), " << st["f_evals"] << " f-evaluations; "
+     << format_significant(st["wall_seconds"].get<double>(), 3)
+     << " s wall; max constraint residual "
+     << format_significant(s["constraint_residual_max"].get<double>(), 2) << "\n";
+  return os.str();
+}
+
+}  // namespace pcsim::sim

@@ -1,0 +1,122 @@
+// pcsim under abuse, from the shell (issue 15): output written whole or not at all with the
+// system's reason, one writer per output directory, derived cases with their own names, and
+// inputs that are not case files. PCSIM_EXE (set by cmake/sim.cmake) is the executable.
+#define BOOST_TEST_MODULE sim_abuse_cli
+#include <boost/test/unit_test.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string out;
+};
+
+std::string exe() {
+  const char* e = std::getenv("PCSIM_EXE");
+  return e ? e : (std::string(PCSIM_BINARY_DIR) + "/pcsim");
+}
+
+Result sh(const std::string& cmd, const fs::path& cwd) {
+  Result r;
+  const std::string full = "cd '" + cwd.string() + "' && " + cmd + " 2>&1";
+  FILE* p = popen(full.c_str(), "r");
+  char buf[4096];
+  std::size_t n;
+  while (p && (n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int st = p ? pclose(p) : -1;
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    static int n = 0;
+    path = fs::temp_directory_path() / ("pcsim_abuse_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+const std::string kCase = std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml";
+bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+}  // namespace
+
+// A full disk, imitated by a file-size limit (RLIMIT_FSIZE; SIGXFSZ ignored so write() fails
+// with EFBIG): the run fails naming the file and the system's reason, not "Success", and the
+// output directory holds neither file.
+BOOST_AUTO_TEST_CASE(full_disk_leaves_neither_file_and_says_why) {
+  TempDir d;
+  const Result r = sh("trap '' XFSZ; ulimit -f 200; '" + exe() + "' run '" + kCase +
+                          "' --set solver.t_end=1 --out res",
+                      d.path);
+  BOOST_TEST(r.status != 0, r.out);
+  BOOST_TEST(has(r.out, "File too large"), r.out);
+  BOOST_TEST(!has(r.out, "Success"), r.out);
+  BOOST_TEST(!fs::exists(d.path / "res" / "summary.json"));
+  BOOST_TEST(!fs::exists(d.path / "res" / "timeseries.csv"));
+}
+
+// Two runs into one --out at once: the second is refused at once with a clear message (the
+// first holds the directory's lock), and the first completes with its own pair of files.
+BOOST_AUTO_TEST_CASE(second_run_into_the_same_directory_is_refused) {
+  TempDir d;
+  // A run long enough (seconds) for the second to start while it holds the directory.
+  std::ofstream(d.path / "long.toml") << "model = \"pendulum\"\n[initial]\nx = 1\n[solver]\nt_end = 3000\n"
+                                         "[output]\ndt = 0.01\n";
+  const std::string run = "'" + exe() + "' run long.toml --out res";
+  FILE* first = popen(("cd '" + d.path.string() + "' && " + run + " > first.log 2>&1").c_str(), "r");
+  // Wait until the first run holds the lock (its staging directory appears).
+  bool started = false;
+  for (int i = 0; i < 400 && !started; ++i) {
+    for (const auto& e : fs::directory_iterator(d.path))
+      started = started || e.path().filename().string().find(".res.staging") == 0;
+    if (!started) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  BOOST_REQUIRE(started);
+  const Result second = sh(run, d.path);
+  const int st = pclose(first);
+  BOOST_TEST(second.status == 2, second.out);
+  BOOST_TEST(has(second.out, "in use by another pcsim run"), second.out);
+  BOOST_TEST((WIFEXITED(st) && WEXITSTATUS(st) == 0));
+  BOOST_TEST(fs::exists(d.path / "res" / "summary.json"));
+}
+
+BOOST_AUTO_TEST_CASE(a_directory_is_not_a_case_file) {
+  TempDir d;
+  const Result r = sh("'" + exe() + "' run '" + d.path.string() + "'", d.path);
+  BOOST_TEST(r.status == 2);
+  BOOST_TEST(has(r.out, "is a directory, not a case file"), r.out);
+}
+
+// best.toml is a case of its own: running it writes out/<case>-optimized, not over the original
+// case's out/<case>.
+BOOST_AUTO_TEST_CASE(optimized_case_has_its_own_name) {
+  TempDir d;
+  const Result r = sh("'" + exe() + "' optimize '" + kCase +
+                          "' --set solver.t_end=0.05 --vary parameters.e=0.009:0.011 --max-evals 2 "
+                          "--no-default-constraints --out opt",
+                      d.path);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  std::ifstream best(d.path / "opt" / "best.toml");
+  std::string text((std::istreambuf_iterator<char>(best)), std::istreambuf_iterator<char>());
+  const bool named = has(text, "name = 'sieve_1995-optimized'") || has(text, "name = \"sieve_1995-optimized\"");
+  BOOST_TEST(named, text);
+}
