@@ -832,6 +832,7 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
       block.code.push_back(instr(id));
     }
     for (std::uint32_t r : blocks[k]) block.results.push_back(slot[r]);
+    fuse_multiply_add(block.code, block.results);
     tape.blocks.push_back(std::move(block));
   }
   if (period_node >= 0) c.period_slot = slot[period_node];

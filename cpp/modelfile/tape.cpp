@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <unordered_map>
 
 namespace pcsim::modelfile {
 
@@ -35,6 +36,9 @@ const char* to_string(Op op) {
     case Op::min: return "min";
     case Op::max: return "max";
     case Op::sincos: return "sincos";
+    case Op::madd: return "madd";
+    case Op::msub: return "msub";
+    case Op::nmadd: return "nmadd";
   }
   return "?";
 }
@@ -100,6 +104,9 @@ void run(const Instr* code, std::size_t count, double* v) {
         y = std::sin(a);
         v[in->b] = std::cos(a);
         break;
+      case Op::madd: y = a * v[in->b] + v[in->c]; break;
+      case Op::msub: y = a * v[in->b] - v[in->c]; break;
+      case Op::nmadd: y = v[in->c] - a * v[in->b]; break;
     }
   }
 }
@@ -292,8 +299,69 @@ void run_tangent(const Instr* code, std::size_t count, double* v, double* d, int
         }
         break;
       }
+      case Op::madd:
+      case Op::msub:
+      case Op::nmadd: {
+        const double* db = dB();
+        const double* dc = d + static_cast<std::size_t>(in->c) * k;
+        const double b = B(), c = v[in->c];
+        const double sc = in->op == Op::msub ? -1.0 : 1.0;  // sign of c
+        const double sp = in->op == Op::nmadd ? -1.0 : 1.0;  // sign of the product
+        y = in->op == Op::madd ? a * b + c : (in->op == Op::msub ? a * b - c : c - a * b);
+        for (int j = 0; j < k; ++j) dy[j] = sp * (da[j] * b + a * db[j]) + sc * dc[j];
+        break;
+      }
     }
   }
+}
+
+void fuse_multiply_add(std::vector<Instr>& code, const std::vector<std::uint32_t>& keep) {
+  // Uses of each slot within the block (operands, and the block's results).
+  std::unordered_map<std::uint32_t, int> uses;
+  std::unordered_map<std::uint32_t, std::size_t> defined_by;  // slot -> index of its mul
+  for (std::uint32_t r : keep) uses[r] += 2;  // never fuse away a result
+  for (std::size_t i = 0; i < code.size(); ++i) {
+    const Instr& in = code[i];
+    ++uses[in.a];
+    switch (in.op) {
+      case Op::add: case Op::sub: case Op::mul: case Op::div: case Op::pow: case Op::atan2:
+      case Op::min: case Op::max:
+        ++uses[in.b];
+        break;
+      case Op::sincos:
+        uses[in.b] += 2;  // its second result: never a fusable product
+        break;
+      default: break;
+    }
+    if (in.op == Op::mul) defined_by[in.dst] = i;
+  }
+  std::vector<char> drop(code.size(), 0);
+  for (Instr& in : code) {
+    if (in.op != Op::add && in.op != Op::sub) continue;
+    auto fusable = [&](std::uint32_t slot) {
+      auto it = defined_by.find(slot);
+      return it != defined_by.end() && !drop[it->second] && uses[slot] == 1;
+    };
+    const bool left = fusable(in.a), right = fusable(in.b);
+    if (!left && !right) continue;
+    const std::size_t k = defined_by[left ? in.a : in.b];
+    const Instr product = code[k];
+    const std::uint32_t other = left ? in.b : in.a;
+    if (in.op == Op::add) {
+      in.op = Op::madd;
+    } else {
+      in.op = left ? Op::msub : Op::nmadd;
+    }
+    in.a = product.a;
+    in.b = product.b;
+    in.c = other;
+    drop[k] = 1;
+  }
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < code.size(); ++i) {
+    if (!drop[i]) code[out++] = code[i];
+  }
+  code.resize(out);
 }
 
 std::string listing(const Tape& tape, const Block& block) {
@@ -307,6 +375,8 @@ std::string listing(const Tape& tape, const Block& block) {
                in.op == Op::pow || in.op == Op::atan2 || in.op == Op::min || in.op == Op::max ||
                in.op == Op::sincos) {
       os << " " << slot(in.b);
+    } else if (in.op == Op::madd || in.op == Op::msub || in.op == Op::nmadd) {
+      os << " " << slot(in.b) << " " << slot(in.c);
     }
     os << "\n";
   }

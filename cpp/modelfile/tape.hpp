@@ -32,6 +32,9 @@ enum class Op : std::uint16_t {
   min,     ///< min(a, b)
   max,     ///< max(a, b)
   sincos,  ///< dst = sin(a), b = cos(a): two results (b is the second result slot)
+  madd,    ///< a * b + c   (fused from a mul whose only use is an add: one dispatch, not two;
+  msub,    ///< a * b - c    rounded as the two operations, so the results are the same)
+  nmadd,   ///< c - a * b
 };
 
 /// Name of an operation (for listings and messages).
@@ -40,7 +43,13 @@ const char* to_string(Op op);
 struct Instr {
   Op op;
   std::uint32_t dst, a, b;
+  std::uint32_t c = 0;  ///< third operand (madd, msub, nmadd)
 };
+
+/// Fuses, within one block, each mul whose only use is an add or sub of the same block into
+/// a madd, msub or nmadd (results identical: the fused operations round as before). `keep`
+/// marks slots that must still be written (results of the block).
+void fuse_multiply_add(std::vector<Instr>& code, const std::vector<std::uint32_t>& keep);
 
 /// Straight-line code computing some results, in dependency order, and the slots holding them
 /// afterwards (a result may sit in the constant region, e.g. a constant entry of M).

@@ -311,7 +311,7 @@ BOOST_AUTO_TEST_CASE(every_function_and_its_derivative_on_the_tape) {
   for (Op op : {Op::add, Op::sub, Op::mul, Op::div, Op::neg, Op::recip, Op::sqr, Op::powi,
                 Op::pow, Op::sqrt, Op::tan, Op::asin, Op::acos, Op::atan, Op::atan2, Op::sinh,
                 Op::cosh, Op::exp, Op::log, Op::abs, Op::step, Op::min, Op::max,
-                Op::sincos}) {
+                Op::sincos, Op::madd, Op::msub, Op::nmadd}) {
     BOOST_TEST_CONTEXT(to_string(op)) { BOOST_TEST(ops.count(op) == 1u); }
   }
   for (int trial = 0; trial < 5; ++trial) {
@@ -337,4 +337,41 @@ BOOST_AUTO_TEST_CASE(a_chain_of_40_links_with_120_coordinates_evaluates_like_its
   std::lock_guard<std::mutex> lock(detail::ginac_mutex());
   const auto m = instantiate(*d, p);
   compare_values(s, *m, p, 1e-12);
+}
+
+// Fusing a mul into the add or sub that is its only use changes nothing but the instruction
+// count: the fused operation rounds the product and the sum separately, as before (the project
+// compiles without floating-point contraction). Values and tangents are bit-identical, and a
+// product that is also a result, or used twice, stays.
+BOOST_AUTO_TEST_CASE(multiply_add_fusion_keeps_results_bit_identical) {
+  // slots 0..3 inputs; 4 = 0*1, 5 = 4 + 2, 6 = 3 - (2*3), 7 = 2*3, 8 = (0*2) - 1, 9 = 0*2 twice used
+  std::vector<Instr> code = {
+      {Op::mul, 4, 0, 1}, {Op::add, 5, 2, 4},  {Op::mul, 7, 2, 3},  {Op::sub, 6, 3, 7},
+      {Op::mul, 9, 0, 2}, {Op::sub, 8, 9, 1},  {Op::mul, 10, 1, 3}, {Op::add, 11, 10, 10},
+      {Op::mul, 12, 0, 3}, {Op::add, 13, 12, 0},
+  };
+  std::vector<Instr> fused = code;
+  fuse_multiply_add(fused, {5, 6, 8, 11, 13, 12});  // 12 is a result: its mul stays
+  std::set<Op> ops;
+  for (const Instr& in : fused) ops.insert(in.op);
+  BOOST_TEST(ops.count(Op::madd) == 1u);
+  BOOST_TEST(ops.count(Op::msub) == 1u);
+  BOOST_TEST(ops.count(Op::nmadd) == 1u);
+  BOOST_TEST(fused.size() == code.size() - 3);  // 10 (used twice) and 12 (a result) stay
+  std::mt19937 rng(15);
+  for (int trial = 0; trial < 100; ++trial) {
+    std::vector<double> v(14, 0.0), w(14, 0.0), dv(14 * 2, 0.0), dw(14 * 2, 0.0);
+    for (int i = 0; i < 4; ++i) {
+      v[i] = w[i] = 1e3 * uniform(rng);
+      for (int j = 0; j < 2; ++j) dv[2 * i + j] = dw[2 * i + j] = uniform(rng);
+    }
+    run(code, v.data());
+    run(fused, w.data());
+    for (std::uint32_t r : {5u, 6u, 8u, 11u, 13u, 12u}) BOOST_TEST(v[r] == w[r]);
+    run_tangent(code, v.data(), dv.data(), 2);
+    run_tangent(fused, w.data(), dw.data(), 2);
+    for (std::uint32_t r : {5u, 6u, 8u, 11u, 13u, 12u}) {
+      for (int j = 0; j < 2; ++j) BOOST_TEST(std::abs(dv[2 * r + j] - dw[2 * r + j]) <= 1e-12 * (1 + std::abs(dv[2 * r + j])));
+    }
+  }
 }
