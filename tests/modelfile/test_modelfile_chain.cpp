@@ -46,13 +46,13 @@ BOOST_AUTO_TEST_CASE(committed_chain_file_is_the_generators_output) {
   BOOST_TEST(ss.str() == pendulum_chain_toml(30));
 }
 
-// The chain starts from a bent, swinging shape and moves for 0.02 s (the engine's cost per
-// step grows as n^3 at this size, dominated by the Huang null-space basis of the 60 q-dependent
-// joint rows, so the test stays short; bench_modelfile_chain runs longer). The engine keeps the
-// joints closed by projection; nothing else removes or adds energy, so the mechanical energy
-// (the file's output "energy") stays at its initial value to the integration error: rtol = atol
-// = 1e-8 gives drifts of order 1e-7 J here; the test allows 1e-6 of the energy scale
-// m g L N^2 / 2 (the potential energy range of the chain, 44 J).
+// The chain starts from a bent, swinging shape and moves for 0.02 s (a short run: dense linear
+// algebra on 90 coordinates is slow in the sanitized Debug build, about 30 s here;
+// bench_modelfile_chain measures longer runs). The engine keeps the joints closed by
+// projection; nothing else removes or adds energy, so the mechanical energy (the file's output
+// "energy") stays at its initial value to the integration error: rtol = atol = 1e-8 gives drifts
+// of order 1e-7 J here; the test allows 1e-6 of the energy scale m g L N^2 / 2 (the potential
+// energy range of the chain, 44 J).
 BOOST_AUTO_TEST_CASE(chain_of_30_links_conserves_energy) {
   const int N = 30;
   const double L = 0.1, m = 1.0, g = 9.81;
