@@ -1,12 +1,26 @@
 # Component sim: case files, runs, summaries and output for any model (the generic layer above
-# the engine; model-specific clients such as the sieve plug into it).
-if(NOT TARGET pcsim_mech)
-  message(STATUS "pcsim: component sim needs pcsim_mech; skipped")
+# the engine and the model files; model-specific clients such as the sieve plug into it).
+if(NOT TARGET pcsim_mech OR NOT TARGET pcsim_modelfile)
+  message(STATUS "pcsim: component sim needs pcsim_mech and pcsim_modelfile; skipped")
   return()
 endif()
+# The built-in model files, embedded into the library (regenerated when a file changes).
+set(PCSIM_EMBEDDED_MODELS sieve_1995 pendulum rolling_disk slider_crank)
+set(_embedded_cpp "${CMAKE_BINARY_DIR}/generated/embedded_models.cpp")
+set(_embedded_deps)
+foreach(m IN LISTS PCSIM_EMBEDDED_MODELS)
+  list(APPEND _embedded_deps "${PROJECT_SOURCE_DIR}/models/${m}.toml")
+endforeach()
+string(REPLACE ";" "," _embedded_list "${PCSIM_EMBEDDED_MODELS}")
+add_custom_command(OUTPUT "${_embedded_cpp}"
+  COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${PROJECT_SOURCE_DIR} -DOUT=${_embedded_cpp}
+          -DMODELS=${_embedded_list} -P ${PROJECT_SOURCE_DIR}/cmake/embed_models.cmake
+  DEPENDS ${_embedded_deps} ${PROJECT_SOURCE_DIR}/cmake/embed_models.cmake
+  COMMENT "embedding the built-in model files")
 pcsim_component(NAME sim
   CXX   cpp/sim/*.cpp
-  LINKS pcsim_mech tomlplusplus::tomlplusplus nlohmann_json::nlohmann_json)
+  LINKS pcsim_modelfile pcsim_mech tomlplusplus::tomlplusplus nlohmann_json::nlohmann_json)
+target_sources(pcsim_sim PRIVATE "${_embedded_cpp}")
 pcsim_boost_tests(DIR tests/sim LINKS pcsim_sim)
 
 # The CLI tests call the pcsim executable (defined later; generator expressions resolve at

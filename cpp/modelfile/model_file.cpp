@@ -1,10 +1,12 @@
 // Reading model files (TOML) and the ModelDescription (see model_file.hpp).
 #include "modelfile/model_file.hpp"
+#include "common/toml_guard.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <fstream>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -582,9 +584,22 @@ ModelSource detail::load_model_source(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file, ec)) {
     throw InputError(file.string() + ": cannot read the model file (no such file)");
   }
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) throw InputError(file.string() + ": cannot read the model file");
+  return parse_model_source_text(text.str(), file);
+}
+
+ModelSource detail::parse_model_source_text(const std::string& text,
+                                            const std::filesystem::path& file) {
+  if (text.size() > (16u << 20))
+    throw InputError(file.string() + ": expected a model file of at most 16 MB, got " +
+                     std::to_string(text.size()) + " bytes");
+  check_toml_nesting(text, file);
   toml::table doc;
   try {
-    doc = toml::parse_file(file.string());
+    doc = toml::parse(text, file.string());
   } catch (const toml::parse_error& err) {
     std::ostringstream os;
     os << file.string();
@@ -605,6 +620,11 @@ ModelSource detail::load_model_source(const std::filesystem::path& file) {
 
 std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::path& file) {
   return build(std::make_shared<const ModelSource>(detail::load_model_source(file)));
+}
+
+std::shared_ptr<const ModelDescription> load_model_text(const std::string& text,
+                                                        const std::filesystem::path& name) {
+  return build(std::make_shared<const ModelSource>(detail::parse_model_source_text(text, name)));
 }
 
 }  // namespace pcsim::modelfile

@@ -143,6 +143,11 @@ class ModelDescription {
 /// velocities, a constraint that involves no coordinate, and the like.
 std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::path& file);
 
+/// The same from the text of a model file (a built-in model compiled into pcsim, or a file
+/// already read); `name` names it in messages.
+std::shared_ptr<const ModelDescription> load_model_text(const std::string& text,
+                                                        const std::filesystem::path& name);
+
 /// The same for a [model] table already read (e.g. inline in a case file). `source` names the
 /// file in messages; `key_prefix` is the dotted key of the table ("model").
 std::shared_ptr<const ModelDescription> parse_model_table(const toml::table& model,

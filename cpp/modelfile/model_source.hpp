@@ -55,5 +55,7 @@ ModelSource read_model_source(const toml::table& model, const std::filesystem::p
                               const std::string& prefix);
 /// Reads a model file's [model] table. Throws InputError.
 ModelSource load_model_source(const std::filesystem::path& file);
+/// The same from the file's text (`file` names it in messages).
+ModelSource parse_model_source_text(const std::string& text, const std::filesystem::path& file);
 
 }  // namespace pcsim::modelfile::detail

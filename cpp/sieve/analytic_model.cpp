@@ -111,7 +111,8 @@ class SieveAnalyticModel final : public mech::Model {
       g.row(i).setZero();
       switch (active[r]) {
         case 0: g(i, U) = 1.0; break;                             // contact: u − u0
-        case 1: case 2: g(i, S) = 1.0; g(i, PHI) = c_.rolling_sign * c_.p.r; break;  // rolling
+        case 1: case 2: g(i, S) = 1.0; g(i, PHI) = c_.p.r; break;  // rolling (both forms)
+        case 4: g(i, S) = 1.0; g(i, PHI) = -c_.p.r; break;          // rolling_printed
         default: g(i, TH) = 1.0; break;                           // lock_theta: θ
       }
       g0(i) = 0.0;     // no explicit time dependence

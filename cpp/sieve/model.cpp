@@ -18,8 +18,8 @@ std::shared_ptr<const mech::Model> make_sieve_model(const SieveSettings& setting
                                                      ModelForm form) {
   SieveCommon common;
   common.p = settings.p;
-  common.rolling_sign = settings.constraints.rolling_as_printed ? -1.0 : 1.0;
-  common.rolling_constant = settings.q0[3] + common.rolling_sign * settings.p.r * settings.q0[5];
+  common.rolling_constant = settings.q0[3] + settings.p.r * settings.q0[5];
+  common.printed_constant = settings.q0[3] - settings.p.r * settings.q0[5];
   if (form == ModelForm::analytic) return make_analytic_sieve_model(common);
   if (form == ModelForm::closed_form) {
     SieveClosedForm m;
@@ -34,7 +34,9 @@ std::shared_ptr<const mech::Model> make_sieve_model(const SieveSettings& setting
 std::vector<std::string> active_constraints(const SieveConstraints& c, bool rolling_velocity) {
   std::vector<std::string> names;
   if (c.contact) names.push_back("contact");
-  if (c.rolling) names.push_back(rolling_velocity ? "rolling_velocity" : "rolling");
+  if (c.rolling)
+    names.push_back(c.rolling_as_printed ? "rolling_printed"
+                                         : (rolling_velocity ? "rolling_velocity" : "rolling"));
   if (c.lock_theta) names.push_back("lock_theta");
   return names;
 }

@@ -33,34 +33,36 @@ struct SieveCommon {
   /// fixed-size derivative vectors, which Eigen unrolls (results bit-identical, ~2x faster).
   static constexpr int kCoordinates = 6;
   SieveParameters p;
-  /// The sign of r phi in the rolling condition (3.2): +1 for s + r phi = const, the physical
-  /// rolling (erratum 7: (3.4) measures phi in the sense of theta, and the contact point lies
-  /// below the roller's centre, so its velocity along the deck is s' + r phi'); -1 for the
-  /// paper's printed s - r phi = const (constraints.rolling_as_printed), a roller turning
-  /// against the deck whose contact point slides at 2 s'.
-  double rolling_sign = 1.0;
-  double rolling_constant = 0.0;  ///< s(0) + rolling_sign r phi(0): the rolling constant
+  /// Rolling (3.2) is s + r phi = s(0) + r phi(0) (erratum 7: (3.4) measures phi in the sense of
+  /// theta, and the contact point lies below the roller's centre, so its velocity along the
+  /// deck is s' + r phi'). The paper's printed s - r phi = s(0) - r phi(0) is offered as the
+  /// constraint rolling_printed (constraints.rolling_as_printed): a roller turning against the
+  /// deck, whose contact point slides at 2 s'.
+  double rolling_constant = 0.0;  ///< s(0) + r phi(0)
+  double printed_constant = 0.0;  ///< s(0) - r phi(0)
 
   std::vector<std::string> coordinates() const {
     return {kCoordinateNames.begin(), kCoordinateNames.end()};
   }
 
-  /// contact (3.1) u = u0; rolling (3.2) s + r phi = s(0) + r phi(0) (holonomic; the sign of
-  /// r phi is rolling_sign); rolling_velocity, the same in the paper's velocity form
-  /// g = [0,0,0,1,0,r], g0 = 0;
+  /// contact (3.1) u = u0; rolling (3.2) s + r phi = s(0) + r phi(0) (holonomic);
+  /// rolling_velocity, the same in the paper's velocity form g = [0,0,0,1,0,r], g0 = 0;
+  /// rolling_printed, the printed s - r phi = s(0) - r phi(0);
   /// lock_theta: theta = 0. Every row is constant.
   std::vector<mech::ConstraintInfo> constraints() const {
     using mech::ConstraintKind;
     return {{"contact", ConstraintKind::holonomic, true},
             {"rolling", ConstraintKind::holonomic, true},
             {"rolling_velocity", ConstraintKind::velocity, true},
-            {"lock_theta", ConstraintKind::holonomic, true}};
+            {"lock_theta", ConstraintKind::holonomic, true},
+            {"rolling_printed", ConstraintKind::holonomic, true}};
   }
 
   template <class S> S holonomic(int i, const VecX<S>& q, const S& /*t*/) const {
     switch (i) {
       case 0: return q(4) - p.u0;
-      case 1: return q(3) + rolling_sign * p.r * q(5) - rolling_constant;
+      case 1: return q(3) + p.r * q(5) - rolling_constant;
+      case 4: return q(3) - p.r * q(5) - printed_constant;
       default: return q(2);  // 3: lock_theta
     }
   }
@@ -71,7 +73,7 @@ struct SieveCommon {
     // Only rolling_velocity (index 2) is a velocity-form constraint.
     g_row.setZero();
     g_row(3) = S(1.0);
-    g_row(5) = S(rolling_sign * p.r);
+    g_row(5) = S(p.r);
     g0 = S(0.0);
   }
 

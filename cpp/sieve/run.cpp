@@ -102,7 +102,7 @@ class SieveMonitor final : public sim::ClientMonitor {
               nlohmann::json& j) override {
     const double weight = set_.p.m2 * set_.p.g;
     const std::string variant = j.value("model_variant", std::string());
-    j["model_form"] = variant.empty() ? std::string("closed_form") : variant;
+    j["model_form"] = variant.empty() ? std::string("model_file") : variant;
     auto half_pp = [&](int sig) { return 0.5 * (maxima_[sig].value + minima_[sig].value); };
     j["amplitude"] = {{"x", half_pp(sig_x)}, {"y", half_pp(sig_y)}, {"theta", half_pp(sig_theta)}};
     j["theta_mean"] = theta_integral_ / (w1_ - w0_);
@@ -327,6 +327,10 @@ class SieveClient final : public sim::Client {
       s.q0[i] = set.q0[i];
       s.qd0[i] = set.qd0[i];
     }
+    // The printed rolling sign is the model's constraint rolling_printed.
+    if (set.constraints.rolling_as_printed)
+      for (auto& name : s.active)
+        if (name == "rolling") name = "rolling_printed";
   }
 
   std::unique_ptr<sim::ClientMonitor> monitor(const sim::Case& c, const sim::Setup& s) const override {

@@ -9,6 +9,7 @@
 #include "sieve/run.hpp"
 #include "sieve/settings.hpp"
 #include "sim/client.hpp"
+#include "sim/file_source.hpp"
 
 namespace pcsim::sieve {
 
@@ -88,15 +89,22 @@ class SieveSource final : public sim::ModelSource {
     return (it != p.end() && it->second > 0) ? 2 * kPi / it->second
                                              : std::numeric_limits<double>::quiet_NaN();
   }
-  std::shared_ptr<const mech::Model> instantiate(const sim::ParameterValues&,
-                                                 const Eigen::VectorXd&, double,
+  // The default: the paper's model as a model file (models/sieve_1995.toml, embedded), T (3.4)
+  // and Q (3.4a)-(3.4f) with the errata, derived symbolically and evaluated from a flat tape.
+  // The variants are the C++ forms of the same machine (sieve/model.hpp): "closed_form" (the
+  // path before issue 14: (3.4) through the engine's automatic differentiation), "geometric"
+  // and "analytic" (hand-derived); tests prove all four equal.
+  std::shared_ptr<const mech::Model> instantiate(const sim::ParameterValues& parameters,
+                                                 const Eigen::VectorXd& q0, double t0,
                                                  const toml::table& case_table,
                                                  const std::string& variant) const override {
+    if (variant.empty() || variant == "model_file")
+      return sim::embedded_description("sieve_1995")->instantiate(parameters, q0, t0);
     const SieveSettings set = settings_from_table(case_table);
     ModelForm form = ModelForm::closed_form;
     if (variant == "geometric") form = ModelForm::geometric;
     else if (variant == "analytic") form = ModelForm::analytic;
-    else if (!variant.empty() && variant != "closed_form")
+    else if (variant != "closed_form")
       throw InputError("the sieve has no model variant '" + variant + "'");
     return make_sieve_model(set, form);
   }

@@ -15,6 +15,7 @@
 #include <toml++/toml.h>
 
 #include "common/kernel.hpp"
+#include "common/toml_guard.hpp"
 #include "mech/status.hpp"
 #include "ode/integrate.hpp"
 #include "sim/model_source.hpp"
@@ -56,15 +57,8 @@ struct Case {
 /// One override in `--set KEY=VALUE` form: a dotted key and the value as text.
 using Override = std::pair<std::string, std::string>;
 
-/// The deepest nesting a case file may have (dotted key parts, nested arrays or inline tables):
-/// a case needs 3; deeper text is refused before the (recursive) TOML parser sees it.
-inline constexpr int kMaxNesting = 16;
 /// The largest case file pcsim reads.
 inline constexpr std::size_t kMaxCaseBytes = 16u << 20;
-
-/// Throws pcsim::InputError (naming the file, the line and the key) if the TOML text nests
-/// deeper than kMaxNesting.
-void check_toml_nesting(const std::string& text, const std::filesystem::path& file);
 
 /// Splits "KEY=VALUE"; throws pcsim::InputError if there is no '='.
 Override parse_override(const std::string& text);

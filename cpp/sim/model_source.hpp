@@ -96,14 +96,8 @@ std::shared_ptr<const ModelSource> find_builtin(const std::string& name);
 /// The names of the built-in models, sorted.
 std::vector<std::string> builtin_names();
 
-/// Loads a model file (`model = "path.toml"`, path relative to the case file's directory) or
-/// an inline `[model]` table. Installed by the model-file component (register_model_files());
-/// without it, a case naming a file is refused with a message saying so.
-using FileModelLoader = std::function<std::shared_ptr<const ModelSource>(
-    const std::filesystem::path& file)>;
-using InlineModelLoader = std::function<std::shared_ptr<const ModelSource>(
-    const toml::table& model, const std::filesystem::path& case_file)>;
-void set_model_file_loaders(FileModelLoader file, InlineModelLoader inline_table);
+/// Loads a model file (`model = "path.toml"`, the path already resolved) or an inline [model]
+/// table of a case file. Throws pcsim::InputError naming the file, the key and what is wrong.
 std::shared_ptr<const ModelSource> load_model_file(const std::filesystem::path& file);
 std::shared_ptr<const ModelSource> load_inline_model(const toml::table& model,
                                                      const std::filesystem::path& case_file);

@@ -155,8 +155,8 @@ BOOST_AUTO_TEST_CASE(sieve_file_reactions_equal_the_cpp_closed_form) {
   }
 }
 
-// The paper's printed sign (constraints.rolling_as_printed in a case) is the file's
-// rolling_printed: the same rows, residuals and reactions.
+// The paper's printed sign (constraints.rolling_as_printed in a case) is the constraint
+// rolling_printed in both the file and the C++ forms: the same rows, residuals and reactions.
 BOOST_AUTO_TEST_CASE(rolling_printed_equals_the_cpp_rolling_as_printed) {
   sieve::SieveSettings set = general_settings();
   set.constraints.rolling_as_printed = true;
@@ -170,10 +170,10 @@ BOOST_AUTO_TEST_CASE(rolling_printed_equals_the_cpp_rolling_as_printed) {
     s.q(3) = set.q0[3] + set.p.r * (s.q(5) - set.q0[5]);  // s − r phi = s0 − r phi0
     s.qd(4) = 0;
     s.qd(3) = set.p.r * s.qd(5);
-    const int ic = cpp->constraint_index("rolling"), ifl = file->constraint_index("rolling_printed");
+    const int ic = cpp->constraint_index("rolling_printed"), ifl = file->constraint_index("rolling_printed");
     BOOST_TEST(std::abs(file->position_residual(ifl, s.t, s.q) - cpp->position_residual(ic, s.t, s.q)) < 1e-14);
     const mech::ReactionResult ra = mech::reactions(*file, {"contact", "rolling_printed"}, s.t, s.q, s.qd);
-    const mech::ReactionResult rb = mech::reactions(*cpp, {"contact", "rolling"}, s.t, s.q, s.qd);
+    const mech::ReactionResult rb = mech::reactions(*cpp, {"contact", "rolling_printed"}, s.t, s.q, s.qd);
     BOOST_REQUIRE(ra.issue == mech::ModelIssue::none);
     BOOST_TEST(rel_diff(ra.R, rb.R) < 1e-12);
   }

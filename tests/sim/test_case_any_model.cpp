@@ -70,9 +70,11 @@ atol = 1e-10
 
 }  // namespace
 
-// The case layer adds nothing to the physics: the pendulum from a case file and the same model
-// through mech::create_model + mech::simulate with the same options end in the same state, bit
-// for bit (same model code, same integrator, same steps).
+// The built-in pendulum from a case file (its embedded model file, models/pendulum.toml) and
+// the C++ model of the registry through mech::create_model + mech::simulate with the same
+// options end in the same state to 1e-10: two independent derivations of the same system (the
+// model file's symbolic one and the C++ struct's AD), integrated alike (M, h, Q agree to
+// rounding, test_modelfile_builtin_models; the 2 s run at rtol 1e-8 amplifies that to ~1e-14).
 BOOST_AUTO_TEST_CASE(registered_model_from_a_case_equals_the_cpp_api) {
   TempDir d;
   const Case c = load_case(d.write("pend.toml", kPendulum));
@@ -86,9 +88,9 @@ BOOST_AUTO_TEST_CASE(registered_model_from_a_case_equals_the_cpp_api) {
   const auto r = mech::simulate(*model, Eigen::Vector2d(1.0, -1.7320508075688772),
                                 Eigen::Vector2d(0.3, 0.17320508075688773), o);
   BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
-  BOOST_TEST(summary["q_end"]["x"].get<double>() == r.q_end[0]);
-  BOOST_TEST(summary["q_end"]["y"].get<double>() == r.q_end[1]);
-  BOOST_TEST(summary["qd_end"]["x_d"].get<double>() == r.qd_end[0]);
+  BOOST_TEST(std::abs(summary["q_end"]["x"].get<double>() - r.q_end[0]) < 1e-10);
+  BOOST_TEST(std::abs(summary["q_end"]["y"].get<double>() - r.q_end[1]) < 1e-10);
+  BOOST_TEST(std::abs(summary["qd_end"]["x_d"].get<double>() - r.qd_end[0]) < 1e-10);
   BOOST_TEST(summary["stats"]["steps"].get<long>() == r.stats.steps);
 }
 
