@@ -11,6 +11,7 @@ PACKAGES=(
   gnuplot-nox
   libnlopt-cxx-dev
   clang libclang-rt-14-dev
+  libsiconos-numerics-dev
   libginac-dev
   libopenmpi-dev openmpi-bin
 )
