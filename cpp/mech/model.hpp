@@ -18,6 +18,21 @@ enum class ConstraintKind {
   velocity,   ///< given directly as a row of g(q, t) q̇ + g0(q, t) = 0 (paper's form)
 };
 
+/// Contact attributes of a constraint (issue 12), used by the switching simulation
+/// (mech/switching.hpp) and ignored by everything else: a constraint is unilateral (its gap
+/// gap_sign·Φ must stay >= 0 and its normal force gap_sign·λ, with R = gᵀλ, is >= 0 while it
+/// is closed), a friction constraint attached to a unilateral one (its row g q̇ + g0 is the
+/// sliding velocity, its multiplier λ the friction force, Coulomb |λ| <= μ_s λ_n), or neither.
+struct ContactInfo {
+  bool unilateral = false;
+  int gap_sign = 1;            ///< +1: the gap is Φ; −1: the gap is −Φ
+  double restitution = 0.0;    ///< Newton's e_n in [0, 1]
+  int friction_of = -1;        ///< a friction constraint: index of its unilateral constraint
+  double mu_static = 0.0;      ///< Coulomb's static coefficient μ_s >= μ_k
+  double mu_kinetic = 0.0;     ///< Coulomb's kinetic coefficient μ_k >= 0
+  bool is_friction() const { return friction_of >= 0; }
+};
+
 struct ConstraintInfo {
   std::string name;
   ConstraintKind kind = ConstraintKind::holonomic;
@@ -29,6 +44,8 @@ struct ConstraintInfo {
   /// Whether a case imposes the constraint unless it says otherwise (a model may offer
   /// constraints that are off by default, e.g. a variant or a deliberate redundancy).
   bool active_by_default = true;
+  /// Unilateral contact and friction (issue 12); a plain bilateral constraint by default.
+  ContactInfo contact;
 };
 
 // ---- What a model author writes ---------------------------------------------------------------

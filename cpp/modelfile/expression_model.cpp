@@ -59,6 +59,18 @@ ExpressionModel::ExpressionModel(std::shared_ptr<const CompiledModel> compiled,
   coordinates_ = compiled_->coordinates;
   constraints_ = compiled_->constraints;
   derived_names_ = compiled_->output_names;
+  // Contact attributes for these parameter values (prelude results; 0 when absent, μ_k = μ_s
+  // when only μ_s is given). ModelDescription::instantiate checks their ranges.
+  for (std::size_t i = 0; i < constraints_.size(); ++i) {
+    const auto& slots = compiled_->constraint_blocks[i].contact_slots;
+    auto value = [&](int k) {
+      return slots[k] >= 0 ? constants_[static_cast<std::size_t>(slots[k])] : 0.0;
+    };
+    mech::ContactInfo& c = constraints_[i].contact;
+    c.restitution = value(0);
+    c.mu_static = value(1);
+    c.mu_kinetic = slots[2] >= 0 ? value(2) : c.mu_static;
+  }
 }
 
 double* ExpressionModel::values(double t, const Eigen::VectorXd& q,

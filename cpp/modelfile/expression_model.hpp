@@ -31,6 +31,8 @@ struct CompiledModel {
     int rows = -1;      ///< results: g row (n), g0, gamma
     int position = -1;  ///< results: Φ (holonomic only; -1 for velocity form)
     int hidden = -1;    ///< the hidden constant Φ(q0, t0) of a from_initial constraint, or -1
+    /// Constant-region slots of the contact attributes (restitution, μ_s, μ_k), or -1.
+    std::int64_t contact_slots[3] = {-1, -1, -1};
   };
   std::vector<ConstraintBlocks> constraint_blocks;
   std::int64_t period_slot = -1;  ///< constant-region slot of the period, or -1

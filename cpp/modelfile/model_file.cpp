@@ -231,6 +231,80 @@ void check_unique_names(const ModelSource& src) {
   for (const auto& [name, e] : src.outputs) declare(name, "an output", e.where, e.key);
 }
 
+// The contact attributes of one constraint (issue 12), checked where they are read.
+void read_contact_attributes(const Reader& r, const toml::table& t, SourceConstraint& sc) {
+  const std::string& k = sc.key;
+  sc.restitution = ExprText{r.where(), k + ".restitution", ""};
+  sc.mu_static = ExprText{r.where(), k + ".mu_static", ""};
+  sc.mu_kinetic = ExprText{r.where(), k + ".mu_kinetic", ""};
+  if (auto u = t.get("unilateral")) sc.spec.unilateral = r.boolean(*u, k + ".unilateral");
+  if (auto gs = t.get("gap_sign")) {
+    const double v = r.number(*gs, k + ".gap_sign");
+    if (v != 1.0 && v != -1.0)
+      fail(r.where(), k + ".gap_sign", "1 (the gap is Phi) or -1 (the gap is -Phi), got " +
+                                           number_text(v));
+    if (!sc.spec.unilateral)
+      fail(r.where(), k + ".gap_sign", "gap_sign only with unilateral = true");
+    sc.spec.gap_sign = static_cast<int>(v);
+  }
+  if (auto e = t.get("restitution")) {
+    if (!sc.spec.unilateral)
+      fail(r.where(), k + ".restitution",
+           "restitution only with unilateral = true (Newton's coefficient of the contact)");
+    sc.restitution = r.expression(*e, k + ".restitution");
+    sc.spec.restitution = sc.restitution.text;
+  }
+  if (sc.spec.unilateral && sc.spec.kind != mech::ConstraintKind::holonomic)
+    fail(r.where(), k + ".unilateral",
+         "a unilateral constraint is holonomic (its gap is Phi(q, t)); a velocity-form row "
+         "has no gap");
+  if (auto f = t.get("friction")) {
+    sc.spec.friction = r.string(*f, k + ".friction",
+                                "the name of the unilateral constraint this friction acts at");
+    if (sc.spec.unilateral)
+      fail(r.where(), k + ".friction",
+           "a constraint is either unilateral (a normal contact) or a friction constraint "
+           "attached to one, not both");
+    const toml::node* ms = t.get("mu_static");
+    if (!ms)
+      fail(r.where(), k + ".mu_static",
+           "Coulomb's static coefficient (an expression of the parameters) for the friction "
+           "constraint '" + sc.spec.name + "'");
+    sc.mu_static = r.expression(*ms, k + ".mu_static");
+    sc.spec.mu_static = sc.mu_static.text;
+    if (auto mk = t.get("mu_kinetic")) {
+      sc.mu_kinetic = r.expression(*mk, k + ".mu_kinetic");
+      sc.spec.mu_kinetic = sc.mu_kinetic.text;
+    }
+  } else {
+    for (const char* key : {"mu_static", "mu_kinetic"})
+      if (t.get(key))
+        fail(r.where(), k + "." + key,
+             std::string(key) + " only with friction = \"NAME\" (the unilateral constraint the "
+                                "friction acts at)");
+  }
+}
+
+// Resolves each friction constraint's unilateral constraint by name (any order in the file).
+void link_friction_constraints(ModelSource& src) {
+  for (SourceConstraint& sc : src.constraints) {
+    if (sc.spec.friction.empty()) continue;
+    int found = -1;
+    for (std::size_t i = 0; i < src.constraints.size(); ++i)
+      if (src.constraints[i].spec.name == sc.spec.friction) found = static_cast<int>(i);
+    std::string unilateral;
+    for (const SourceConstraint& c : src.constraints)
+      if (c.spec.unilateral) unilateral += (unilateral.empty() ? "" : ", ") + c.spec.name;
+    if (found < 0 || !src.constraints[static_cast<std::size_t>(found)].spec.unilateral)
+      fail(src.where, sc.key + ".friction",
+           "the name of a unilateral constraint of the model (" +
+               (unilateral.empty() ? std::string("it declares none: unilateral = true")
+                                   : "declared: " + unilateral) +
+               "), got '" + sc.spec.friction + "'");
+    sc.friction_of = found;
+  }
+}
+
 }  // namespace
 
 ModelSource detail::read_model_source(const toml::table& model,
@@ -333,7 +407,9 @@ ModelSource detail::read_model_source(const toml::table& model,
       sc.spec.name = r.string(*nm, anonymous + ".name", "the constraint's name (a string)");
       r.name(sc.spec.name, anonymous + ".name");
       sc.key = r.key("constraint") + "[" + sc.spec.name + "]";
-      r.only(t, sc.key, {"name", "holonomic", "velocity", "velocity0", "active", "from_initial"});
+      r.only(t, sc.key, {"name", "holonomic", "velocity", "velocity0", "active", "from_initial",
+                         "unilateral", "gap_sign", "restitution", "friction", "mu_static",
+                         "mu_kinetic"});
       const toml::node* hol = t.get("holonomic");
       const toml::node* vel = t.get("velocity");
       if ((hol != nullptr) == (vel != nullptr)) {
@@ -371,8 +447,10 @@ ModelSource detail::read_model_source(const toml::table& model,
           sc.spec.velocity0 = sc.velocity0.text;
         }
       }
+      read_contact_attributes(r, t, sc);
       src.constraints.push_back(std::move(sc));
     }
+    link_friction_constraints(src);
   }
 
   // Outputs.
@@ -542,7 +620,30 @@ std::shared_ptr<const mech::Model> ModelDescription::instantiate(
   }
   if (any_hidden) run(tape.prelude, v.data());
   v.resize(tape.n_constant);
-  return std::make_shared<ExpressionModel>(compiled_, std::move(v));
+  auto model = std::make_shared<ExpressionModel>(compiled_, std::move(v));
+  // The contact attributes for these parameter values must be physical (issue 12).
+  const std::string who = "model '" + name_ + "'" + (source_.empty() ? "" : " (" + source_.string() + ")");
+  for (std::size_t i = 0; i < constraints_.size(); ++i) {
+    const ConstraintSpec& spec = constraints_[i];
+    const mech::ContactInfo& c = model->constraints()[i].contact;
+    const std::string key = "model.constraint[" + spec.name + "]";
+    auto got = [](double v, const std::string& text) {
+      return ", got " + number_text(v) + " (\"" + text + "\")";
+    };
+    if (c.unilateral && !(c.restitution >= 0.0 && c.restitution <= 1.0))
+      fail(who, key + ".restitution",
+           "Newton's restitution coefficient in [0, 1]" + got(c.restitution, spec.restitution));
+    if (c.is_friction()) {
+      if (!(c.mu_static >= 0.0) || !std::isfinite(c.mu_static))
+        fail(who, key + ".mu_static",
+             "a static friction coefficient >= 0" + got(c.mu_static, spec.mu_static));
+      if (!(c.mu_kinetic >= 0.0 && c.mu_kinetic <= c.mu_static))
+        fail(who, key + ".mu_kinetic",
+             "a kinetic friction coefficient in [0, mu_static = " + number_text(c.mu_static) +
+                 "]" + got(c.mu_kinetic, spec.mu_kinetic.empty() ? spec.mu_static : spec.mu_kinetic));
+    }
+  }
+  return model;
 }
 
 std::shared_ptr<const ModelDescription> ModelDescription::with_constraints(

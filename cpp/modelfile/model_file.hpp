@@ -49,7 +49,14 @@ struct ConstraintSpec {
   std::vector<std::pair<std::string, std::string>> velocity;  ///< coordinate -> coefficient
   std::string velocity0;                                    ///< g0 as written ("" = 0)
   bool added = false;             ///< added by with_constraints (not in the file)
-  // Issue 12 adds the contact attributes (unilateral, friction, restitution) here.
+  // Contact attributes (issue 12; docs/model-files.md "Contact"). Expressions are of the
+  // parameters only, evaluated by instantiate().
+  bool unilateral = false;        ///< `unilateral = true`: gap_sign·Φ >= 0 (holonomic only)
+  int gap_sign = 1;               ///< `gap_sign = -1`: the gap is −Φ
+  std::string restitution;        ///< Newton's e_n as written ("" = 0)
+  std::string friction;           ///< `friction = "NAME"`: attached to unilateral NAME ("" none)
+  std::string mu_static;          ///< μ_s as written (required with friction)
+  std::string mu_kinetic;         ///< μ_k as written ("" = μ_s)
 };
 
 /// A derived output column: `name = "expression"` in [model.outputs].

@@ -32,6 +32,8 @@ struct SourceConstraint {
   ExprText holonomic;                                   ///< holonomic: Φ
   std::vector<std::pair<int, ExprText>> velocity;       ///< velocity form: coordinate -> g_ik
   ExprText velocity0;                                   ///< velocity form: g0 ("" = 0)
+  ExprText restitution, mu_static, mu_kinetic;          ///< contact attributes ("" = absent)
+  int friction_of = -1;                                 ///< index of the unilateral constraint
 };
 
 struct ModelSource {

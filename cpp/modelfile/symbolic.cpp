@@ -1,6 +1,8 @@
 // Symbolic derivation of a model file and its compilation into a tape (see symbolic.hpp).
 #include "modelfile/symbolic.hpp"
 
+#include <array>
+
 #include <cmath>
 #include <cstring>
 #include <algorithm>
@@ -206,6 +208,18 @@ SymbolicModel derive(const ModelSource& src) {
     for (int k = 0; k < n; ++k) {
       c.constant_row = c.constant_row && first_used(c.g[k], m.q) < 0 && !c.g[k].has(m.t);
     }
+    // Contact attributes: numbers of the parameters only (evaluated once per instantiate()).
+    auto parameter_only = [&](const ExprText& e, const char* what) -> std::optional<ex> {
+      if (e.text.empty()) return std::nullopt;
+      const ex v = base.parse(e);
+      if (first_used(v, m.q) >= 0 || first_used(v, m.qd) >= 0 || v.has(m.t))
+        fail(e.where, e.key, std::string(what) + " must be an expression of the parameters only (\"" +
+                                 e.text + "\")");
+      return v;
+    };
+    c.restitution = parameter_only(sc.restitution, "the restitution coefficient");
+    c.mu_static = parameter_only(sc.mu_static, "the static friction coefficient");
+    c.mu_kinetic = parameter_only(sc.mu_kinetic, "the kinetic friction coefficient");
     m.constraints.push_back(std::move(c));
   }
 
@@ -662,8 +676,12 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
   c.coordinates = src.coordinates;
   for (const auto& [name, text] : src.outputs) c.output_names.push_back(name);
   for (std::size_t i = 0; i < src.constraints.size(); ++i) {
-    c.constraints.push_back({src.constraints[i].spec.name, src.constraints[i].spec.kind,
-                             m.constraints[i].constant_row});
+    const SourceConstraint& sc = src.constraints[i];
+    mech::ConstraintInfo info{sc.spec.name, sc.spec.kind, m.constraints[i].constant_row};
+    info.contact.unilateral = sc.spec.unilateral;
+    info.contact.gap_sign = sc.spec.gap_sign;
+    info.contact.friction_of = sc.friction_of;
+    c.constraints.push_back(info);
   }
 
   TapeBuilder b(m);
@@ -721,6 +739,15 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
   }
   std::int64_t period_node = -1;
   if (m.period) period_node = compile(*m.period, *src.period);
+  // Contact attributes: parameter-only nodes (prelude), read by ExpressionModel's constructor.
+  std::vector<std::array<std::int64_t, 3>> contact_nodes(m.constraints.size(), {-1, -1, -1});
+  for (std::size_t i = 0; i < m.constraints.size(); ++i) {
+    const auto& mc = m.constraints[i];
+    const SourceConstraint& sc = src.constraints[i];
+    if (mc.restitution) contact_nodes[i][0] = compile(*mc.restitution, sc.restitution);
+    if (mc.mu_static) contact_nodes[i][1] = compile(*mc.mu_static, sc.mu_static);
+    if (mc.mu_kinetic) contact_nodes[i][2] = compile(*mc.mu_kinetic, sc.mu_kinetic);
+  }
 
   // Which nodes are needed: a reverse sweep per block (operands have smaller ids).
   const std::size_t N = b.nodes.size();
@@ -743,6 +770,12 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
     std::vector<char> flags;
     mark(flags, {static_cast<std::uint32_t>(period_node)});
   }
+  for (const auto& nodes : contact_nodes)
+    for (std::int64_t node : nodes)
+      if (node >= 0) {
+        std::vector<char> flags;
+        mark(flags, {static_cast<std::uint32_t>(node)});
+      }
 
   // Slots: the constant region (literals, parameters, hidden, prelude), then the state region
   // (inputs t, q, qd, qdd, R, then the state temporaries).
@@ -836,6 +869,10 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
     tape.blocks.push_back(std::move(block));
   }
   if (period_node >= 0) c.period_slot = slot[period_node];
+  for (std::size_t i = 0; i < contact_nodes.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (contact_nodes[i][k] >= 0)
+        c.constraint_blocks[i].contact_slots[k] = slot[contact_nodes[i][k]];
   c.index_entries();
   return out;
 }

@@ -34,6 +34,8 @@ struct SymbolicModel {
     GiNaC::ex g0, gamma;
     int hidden = -1;                     ///< index into hidden, or -1
     bool constant_row = false;           ///< g free of q and t
+    /// Contact attributes (issue 12), expressions of the parameters only; absent: none.
+    std::optional<GiNaC::ex> restitution, mu_static, mu_kinetic;
   };
   std::vector<Constraint> constraints;
   std::vector<GiNaC::ex> outputs;

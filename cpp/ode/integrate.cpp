@@ -2,7 +2,9 @@
 // stiffness test fires (auto), and merges their results and counters.
 #include "ode/integrate.hpp"
 
+#include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace pcsim {
 
@@ -76,6 +78,36 @@ std::string at_time(double t) {
   return s.str();
 }
 
+// The problem Radau integrates: the caller's, with OdeOptions::events given to Radau as its own
+// event functions (OdeProblem::event_count / events / event_direction). A g that returns false
+// or a non-finite value throws, which Radau reports as callback_error naming the event
+// functions and the time (as the explicit pair does).
+OdeProblem radau_problem(const OdeProblem& problem, const EventFunctions& ev) {
+  OdeProblem p = problem;
+  if (ev.count == 0) return p;
+  p.event_count = ev.count;
+  p.event_direction = ev.direction;
+  p.events = [g = ev.g, count = ev.count](double t, const double* y, double* out) {
+    if (!g(t, y, out)) throw std::runtime_error("an event function could not be evaluated");
+    for (int i = 0; i < count; ++i)
+      if (!std::isfinite(out[i])) throw std::runtime_error("an event function is not finite");
+  };
+  return p;
+}
+
+// The explicit pair's events: OdeOptions::events, or the problem's own (Radau-style) ones.
+EventFunctions explicit_events(const OdeProblem& problem, const EventFunctions& ev) {
+  if (ev.count > 0 || problem.event_count == 0) return ev;
+  EventFunctions e;
+  e.count = problem.event_count;
+  e.direction = problem.event_direction;
+  e.g = [f = problem.events](double t, const double* y, double* g) {
+    f(t, y, g);
+    return true;
+  };
+  return e;
+}
+
 }  // namespace
 
 OdeResult ode_integrate(const OdeProblem& problem, double t0, const Eigen::VectorXd& y0,
@@ -83,29 +115,31 @@ OdeResult ode_integrate(const OdeProblem& problem, double t0, const Eigen::Vecto
                         const StepCallback& on_step) {
   OdeResult out;
   out.method = method;
-  const bool has_events = options.events.count > 0;
   const bool dae = problem.mass.size() != 0 || problem.index2_count != 0 ||
                    problem.index3_count != 0;
   if (method == OdeMethod::automatic && dae) method = OdeMethod::radau;
+  if (options.events.count > 0 && problem.event_count > 0) {
+    out.status = OdeStatus::bad_input;
+    out.message = "ode_integrate: event functions given twice (OdeOptions::events and "
+                  "OdeProblem::event_count); give them once";
+    return out;
+  }
 
   if (method == OdeMethod::radau) {
-    if (has_events) {
-      out.status = OdeStatus::bad_input;
-      out.message = "ode_integrate: event functions are not supported by the Radau kernel yet "
-                    "(use method explicit or auto)";
-      return out;
-    }
-    const RadauResult r = radau_integrate(problem, t0, y0, t_end, radau_options(options), on_step);
+    const RadauResult r = radau_integrate(radau_problem(problem, options.events), t0, y0, t_end,
+                                          radau_options(options), on_step);
     add_radau(out, r);
     out.status = r.status;
     out.t = r.t;
     out.y = r.y;
     out.h_last = r.h_last;
     out.message = r.message;
+    out.roots = r.root_directions;
     return out;
   }
 
   ExplicitRkOptions eo = explicit_options(options);
+  eo.events = explicit_events(problem, options.events);
   if (method == OdeMethod::automatic) eo.stiffness = StiffnessAction::stop;
   const ExplicitRkResult e = explicit_rk_integrate(problem, t0, y0, t_end, eo, on_step);
   add_explicit(out, e);
@@ -117,21 +151,20 @@ OdeResult ode_integrate(const OdeProblem& problem, double t0, const Eigen::Vecto
   out.roots = e.roots;
   if (method != OdeMethod::automatic || e.status != OdeStatus::stiffness_detected) return out;
 
-  // auto: continue with Radau from the state where the stiffness test fired.
-  if (has_events) {
-    out.message += "; auto cannot switch to Radau because Radau has no event functions yet";
-    return out;
-  }
+  // auto: continue with Radau from the state where the stiffness test fired (with the same
+  // event functions; a root exactly at the switch is masked there, as at any restart).
   out.switch_time = e.t;
   RadauOptions ro = radau_options(options);
   ro.h0 = std::abs(e.h_last);
-  const RadauResult r = radau_integrate(problem, e.t, e.y, t_end, ro, on_step);
+  const RadauResult r =
+      radau_integrate(radau_problem(problem, options.events), e.t, e.y, t_end, ro, on_step);
   add_radau(out, r);
   out.status = r.status;
   out.t = r.t;
   out.y = r.y;
   out.h_last = r.h_last;
   out.message = r.message;
+  out.roots = r.root_directions;
   if (r.status != OdeStatus::success)
     out.message = "auto (switched to Radau at t = " + at_time(e.t) + "): " + r.message;
   return out;

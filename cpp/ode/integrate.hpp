@@ -41,7 +41,11 @@ struct OdeOptions {
   double h0 = 0.0;              ///< initial step; 0 = each method's default
   double hmax = 0.0;            ///< 0 = |t_end - t0|
   long max_steps = 100000;      ///< per method
-  EventFunctions events;        ///< explicit method only, until Radau has events (see below)
+  /// Event functions for every method (status root_found, OdeResult::roots). Radau receives
+  /// them as its own (OdeProblem::event_count; it locates roots to 100 uround (|t| + |h|) and
+  /// ignores time_tolerance). Alternatively the problem may carry Radau-style events
+  /// (OdeProblem::event_count), which the explicit pair then receives; not both.
+  EventFunctions events;
   RadauOptions radau;           ///< Radau-only settings: max_newton, gustafsson
   ExplicitRkOptions explicit_rk;  ///< explicit-only settings: safety, step ratios, stiffness
 };
@@ -72,10 +76,9 @@ struct OdeResult {
 /// output. auto: the explicit pair with StiffnessAction::stop; when the stiffness test fires at
 /// t_s, Radau continues from (t_s, y(t_s)) with h0 = the explicit pair's last step; result
 /// fields say which methods ran and switch_time = t_s. A problem with a mass matrix or index
-/// counts goes to Radau directly under auto. Events are supported with the explicit pair; with
-/// Radau (method radau, or auto after a switch) they are not yet, and the call returns
-/// bad_input (radau) or ends at the switch with status stiffness_detected (auto) and says so.
-/// Never throws.
+/// counts goes to Radau directly under auto. Events work with every method, and under auto
+/// on both sides of the switch (a root exactly at the switch time is masked there, as at any
+/// restart). Never throws.
 OdeResult ode_integrate(const OdeProblem& problem, double t0, const Eigen::VectorXd& y0,
                         double t_end, const OdeOptions& options, OdeMethod method,
                         const StepCallback& on_step = {});
