@@ -45,7 +45,7 @@ struct ConstraintInfo {
   /// constraints that are off by default, e.g. a variant or a deliberate redundancy).
   bool active_by_default = true;
   /// Unilateral contact and friction (issue 12); a plain bilateral constraint by default.
-  ContactInfo contact;
+  ContactInfo contact = {};
 };
 
 // ---- What a model author writes ---------------------------------------------------------------

@@ -625,22 +625,22 @@ std::shared_ptr<const mech::Model> ModelDescription::instantiate(
   const std::string who = "model '" + name_ + "'" + (source_.empty() ? "" : " (" + source_.string() + ")");
   for (std::size_t i = 0; i < constraints_.size(); ++i) {
     const ConstraintSpec& spec = constraints_[i];
-    const mech::ContactInfo& c = model->constraints()[i].contact;
+    const mech::ContactInfo& ci = model->constraints()[i].contact;
     const std::string key = "model.constraint[" + spec.name + "]";
-    auto got = [](double v, const std::string& text) {
-      return ", got " + number_text(v) + " (\"" + text + "\")";
+    auto got = [](double x, const std::string& text) {
+      return ", got " + number_text(x) + " (\"" + text + "\")";
     };
-    if (c.unilateral && !(c.restitution >= 0.0 && c.restitution <= 1.0))
+    if (ci.unilateral && !(ci.restitution >= 0.0 && ci.restitution <= 1.0))
       fail(who, key + ".restitution",
-           "Newton's restitution coefficient in [0, 1]" + got(c.restitution, spec.restitution));
-    if (c.is_friction()) {
-      if (!(c.mu_static >= 0.0) || !std::isfinite(c.mu_static))
+           "Newton's restitution coefficient in [0, 1]" + got(ci.restitution, spec.restitution));
+    if (ci.is_friction()) {
+      if (!(ci.mu_static >= 0.0) || !std::isfinite(ci.mu_static))
         fail(who, key + ".mu_static",
-             "a static friction coefficient >= 0" + got(c.mu_static, spec.mu_static));
-      if (!(c.mu_kinetic >= 0.0 && c.mu_kinetic <= c.mu_static))
+             "a static friction coefficient >= 0" + got(ci.mu_static, spec.mu_static));
+      if (!(ci.mu_kinetic >= 0.0 && ci.mu_kinetic <= ci.mu_static))
         fail(who, key + ".mu_kinetic",
-             "a kinetic friction coefficient in [0, mu_static = " + number_text(c.mu_static) +
-                 "]" + got(c.mu_kinetic, spec.mu_kinetic.empty() ? spec.mu_static : spec.mu_kinetic));
+             "a kinetic friction coefficient in [0, mu_static = " + number_text(ci.mu_static) +
+                 "]" + got(ci.mu_kinetic, spec.mu_kinetic.empty() ? spec.mu_static : spec.mu_kinetic));
     }
   }
   return model;

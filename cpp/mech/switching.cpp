@@ -1,0 +1,1535 @@
+// simulate_switching(): unilateral contact and Coulomb friction by switching the active
+// constraints at events (see switching.hpp and docs/switching.md).
+#include "mech/switching.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <ostream>
+#include <sstream>
+
+#include "common/format.hpp"
+#include "linalg/huang.hpp"
+#include "mech/dynamics.hpp"
+#include "mech/projection.hpp"
+#include "ode/integrate.hpp"
+
+namespace pcsim::mech {
+
+const char* to_string(ContactMode mode) {
+  switch (mode) {
+    case ContactMode::flight: return "flight";
+    case ContactMode::contact: return "contact";
+    case ContactMode::stick: return "stick";
+    case ContactMode::slip: return "slip";
+  }
+  return "unknown";
+}
+
+const char* to_string(ContactEventKind kind) {
+  switch (kind) {
+    case ContactEventKind::lift_off: return "lift_off";
+    case ContactEventKind::impact: return "impact";
+    case ContactEventKind::accumulation: return "accumulation";
+    case ContactEventKind::slip: return "slip";
+    case ContactEventKind::stick: return "stick";
+    case ContactEventKind::reversal: return "reversal";
+  }
+  return "unknown";
+}
+
+std::ostream& operator<<(std::ostream& os, ContactMode mode) { return os << to_string(mode); }
+std::ostream& operator<<(std::ostream& os, ContactEventKind kind) { return os << to_string(kind); }
+
+std::vector<std::string> unilateral_constraints(const Model& model,
+                                                const std::vector<std::string>& active) {
+  std::vector<std::string> out;
+  for (const ConstraintInfo& c : model.constraints())
+    if (c.contact.unilateral && std::find(active.begin(), active.end(), c.name) != active.end())
+      out.push_back(c.name);
+  return out;
+}
+
+namespace {
+
+std::string num(double v) { return format_significant(v, 9); }
+
+/// One unilateral contact of the run.
+struct ContactDef {
+  int normal = -1;    ///< constraint index of the unilateral constraint
+  int friction = -1;  ///< constraint index of its active friction constraint, or -1
+  int sign = 1;       ///< gap = sign Φ, normal force = sign λ
+  double e = 0.0, mu_s = 0.0, mu_k = 0.0;
+  std::string name;
+};
+
+/// The contacts' modes for one segment; sigma is the sliding direction (±1) of slipping ones.
+struct Config {
+  std::vector<ContactMode> modes;
+  std::vector<int> sigma;
+};
+
+/// The active set of a configuration: the constraints imposed (case order: bilateral ones,
+/// closed normals, sticking friction rows), then the rows of sliding friction constraints
+/// (not imposed: their row is the direction of the friction force and their g q̇ + g0 the
+/// sliding velocity).
+struct Layout {
+  ActiveSet set;
+  std::vector<int> imposed;       ///< constraint indices of the first s_A rows
+  int s_A = 0;
+  std::vector<int> normal_pos;    ///< per contact: row of its normal in set, or -1
+  std::vector<int> friction_pos;  ///< per contact: row of its friction constraint, or -1
+};
+
+/// Reactions at one state for one configuration.
+struct Solved {
+  Eigen::VectorXd qdd, R, lambda;     ///< lambda: the s_A imposed multipliers
+  std::vector<double> lambda_n, lambda_t;  ///< per contact (0 when open / no friction)
+};
+
+/// Kinematics of one constraint row at a state.
+struct Row {
+  Eigen::RowVectorXd g;
+  double g0 = 0.0, gamma = 0.0;
+  double value(const Eigen::VectorXd& qd) const { return g.dot(qd) + g0; }
+};
+
+class Engine {
+ public:
+  Engine(const Model& model, const SimulationOptions& opt, const SwitchingOptions& sw,
+         std::vector<int> active, std::vector<ContactDef> contacts)
+      : model_(model),
+        opt_(opt),
+        sw_(sw),
+        active_(std::move(active)),
+        contacts_(std::move(contacts)),
+        n_(model.n()),
+        method_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack
+                    ? ReactionMethod::compatibility
+                    : opt.reaction_method),
+        dyn_(model, opt.kernel),
+        aux_dyn_(model, opt.kernel) {
+    for (int i : active_) {
+      const ContactInfo& ci = model.constraints()[i].contact;
+      if (!ci.unilateral && !ci.is_friction()) bilateral_.push_back(i);
+    }
+  }
+
+  int nc() const { return static_cast<int>(contacts_.size()); }
+  const std::vector<ContactDef>& contacts() const { return contacts_; }
+
+  // ---- configuration -> layout ---------------------------------------------------------------
+
+  Layout layout(const Config& cfg) const {
+    Layout L;
+    std::vector<int> rows;
+    L.normal_pos.assign(nc(), -1);
+    L.friction_pos.assign(nc(), -1);
+    for (int i : active_) {
+      const ContactInfo& ci = model_.constraints()[i].contact;
+      int c = -1;
+      if (ci.unilateral) {
+        c = contact_of_normal(i);
+        if (!is_closed(cfg.modes[c])) continue;
+        L.normal_pos[c] = static_cast<int>(rows.size());
+      } else if (ci.is_friction()) {
+        c = contact_of_friction(i);
+        if (c < 0 || cfg.modes[c] != ContactMode::stick) continue;
+        L.friction_pos[c] = static_cast<int>(rows.size());
+      }
+      rows.push_back(i);
+    }
+    L.imposed = rows;
+    L.s_A = static_cast<int>(rows.size());
+    for (int c = 0; c < nc(); ++c) {
+      if (cfg.modes[c] == ContactMode::slip) {
+        L.friction_pos[c] = static_cast<int>(rows.size());
+        rows.push_back(contacts_[c].friction);
+      }
+    }
+    L.set = ActiveSet::of(model_, rows);
+    return L;
+  }
+
+  // ---- reactions ------------------------------------------------------------------------------
+
+  /// Evaluates and solves for the reactions of configuration cfg (layout L) at (t, q, qd).
+  ModelIssue solve(Dynamics& d, const Layout& L, const Config& cfg, double t,
+                   const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Solved& out,
+                   ReactionMethod method) {
+    ModelIssue e = d.evaluate(L.set, t, q, qd);
+    if (e != ModelIssue::none) return e;
+    const int s_all = L.set.size();
+    if (s_all == L.s_A) {
+      // No sliding contact: exactly the engine's solve of simulate().
+      e = d.solve(method);
+      if (e != ModelIssue::none) return e;
+      out.qdd = d.qdd;
+      out.R = d.R;
+      out.lambda = d.lambda;
+    } else if (method == ReactionMethod::compatibility) {
+      e = solve_dense(d, L, cfg, out);
+      if (e != ModelIssue::none) return e;
+    } else {
+      e = solve_structured(d, L, cfg, out);
+      if (e != ModelIssue::none) return e;
+    }
+    out.lambda_n.assign(nc(), 0.0);
+    out.lambda_t.assign(nc(), 0.0);
+    for (int c = 0; c < nc(); ++c) {
+      if (L.normal_pos[c] < 0) continue;
+      out.lambda_n[c] = contacts_[c].sign * out.lambda[L.normal_pos[c]];
+      if (cfg.modes[c] == ContactMode::stick) out.lambda_t[c] = out.lambda[L.friction_pos[c]];
+      if (cfg.modes[c] == ContactMode::slip)
+        out.lambda_t[c] = -contacts_[c].mu_k * cfg.sigma[c] * out.lambda_n[c];
+    }
+    return ModelIssue::none;
+  }
+
+  // The structured solve with sliding friction: R = (g_Aᵀ + F) λ, F's column of contact c's
+  // normal row = −μ_k σ_c sign_c t_cᵀ (the friction force −μ_k λ_n σ along the sliding row),
+  // and the compatibility rows g_A M⁻¹ (g_Aᵀ + F) λ = −(g_A M⁻¹ f + γ_A): a non-symmetric
+  // s_A x s_A system (no ideality rows: R's form carries them and the friction law).
+  ModelIssue solve_structured(Dynamics& d, const Layout& L, const Config& cfg, Solved& out) {
+    const int sA = L.s_A;
+    llt_.compute(d.M);
+    if (llt_.info() != Eigen::Success) return fail(ModelIssue::singular_mass_matrix, "M is not positive definite");
+    const Eigen::MatrixXd gA = d.g.topRows(sA);
+    Eigen::MatrixXd B = gA.transpose();  // n x sA: g_Aᵀ + F
+    for (int c = 0; c < nc(); ++c) {
+      if (cfg.modes[c] != ContactMode::slip) continue;
+      B.col(L.normal_pos[c]) += -contacts_[c].mu_k * cfg.sigma[c] * contacts_[c].sign *
+                                d.g.row(L.friction_pos[c]).transpose();
+    }
+    const Eigen::VectorXd a0 = llt_.solve(d.f);
+    const Eigen::MatrixXd MinvB = llt_.solve(B);
+    const Eigen::MatrixXd S = gA * MinvB;
+    const Eigen::VectorXd rhs = -(gA * a0 + d.gamma.head(sA));
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(S);
+    if (!lu.isInvertible())
+      return fail(ModelIssue::dependent_constraints,
+                  "the compatibility system with sliding friction is singular (the friction force "
+                  "cancels the normal one: Painleve's paradox, or dependent constraints)");
+    out.lambda = lu.solve(rhs);
+    out.R = B * out.lambda;
+    out.qdd = a0 + MinvB * out.lambda;
+    if (!out.R.allFinite() || !out.qdd.allFinite())
+      return fail(ModelIssue::non_finite, "the reactions with sliding friction are not finite");
+    return ModelIssue::none;
+  }
+
+  // The paper's dense system with one ideality row replaced by the friction law per sliding
+  // contact: rows G_A R = −G0_A (s_A), Dᵀ R = 0 with D spanning null([g_A; g_slip])
+  // (n − s_A − m), and λ_t + μ_k σ λ_n = 0 (m), where the multipliers are the components of R
+  // in the rows, λ = (g gᵀ)⁻¹ g R (exact for R in the row space, which the Dᵀ rows enforce).
+  ModelIssue solve_dense(Dynamics& d, const Layout& L, const Config& cfg, Solved& out) {
+    const int sA = L.s_A, s_all = L.set.size();
+    ModelIssue e = d.prepare_compatibility();
+    if (e != ModelIssue::none) return e;
+    const Eigen::MatrixXd C = (d.g * d.g.transpose()).ldlt().solve(d.g);  // s_all x n
+    Eigen::MatrixXd A(n_, n_);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_);
+    A.topRows(sA) = d.G.topRows(sA);
+    rhs.head(sA) = -d.G0.head(sA);
+    A.middleRows(sA, n_ - s_all) = d.D.transpose();
+    int r = n_ - (s_all - sA);
+    for (int c = 0; c < nc(); ++c) {
+      if (cfg.modes[c] != ContactMode::slip) continue;
+      A.row(r++) = C.row(L.friction_pos[c]) +
+                   contacts_[c].mu_k * cfg.sigma[c] * contacts_[c].sign * C.row(L.normal_pos[c]);
+    }
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(A);
+    out.R = lu.solve(rhs);
+    llt_.compute(d.M);
+    out.qdd = llt_.solve(d.f + out.R);
+    out.lambda = (C * out.R).head(sA);
+    if (!out.R.allFinite() || !out.qdd.allFinite() ||
+        (A * out.R - rhs).cwiseAbs().maxCoeff() > 1e-8 * (1.0 + rhs.cwiseAbs().maxCoeff() +
+                                                          (A.cwiseAbs() * out.R.cwiseAbs()).maxCoeff()))
+      return fail(ModelIssue::dependent_constraints,
+                  "the compatibility system [G; D^T; friction] R = [-G0; 0; 0] is singular");
+    return ModelIssue::none;
+  }
+
+  // ---- contact kinematics ---------------------------------------------------------------------
+
+  Row row(int constraint, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+    Eigen::MatrixXd g(1, n_);
+    Eigen::VectorXd g0(1), gamma(1);
+    model_.constraint_rows({constraint}, t, q, qd, g, g0, gamma);
+    Row r;
+    r.g = g.row(0);
+    r.g0 = g0[0];
+    r.gamma = gamma[0];
+    return r;
+  }
+  Row normal_row(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+    Row r = row(contacts_[c].normal, t, q, qd);
+    const double s = contacts_[c].sign;
+    r.g *= s;
+    r.g0 *= s;
+    r.gamma *= s;
+    return r;
+  }
+  double gap(int c, double t, const Eigen::VectorXd& q) const {
+    return contacts_[c].sign * model_.position_residual(contacts_[c].normal, t, q);
+  }
+  double vn(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+    return normal_row(c, t, q, qd).value(qd);
+  }
+  double vt(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+    if (contacts_[c].friction < 0) return 0.0;
+    return row(contacts_[c].friction, t, q, qd).value(qd);
+  }
+
+  // ---- the inertia seen by the contacts ---------------------------------------------------------
+
+  /// P = M⁻¹ − M⁻¹ g_Bᵀ (g_B M⁻¹ g_Bᵀ)⁻¹ g_B M⁻¹ (the inverse inertia with the bilateral
+  /// constraints imposed) and a_B, the acceleration with only the bilateral constraints.
+  ModelIssue inertia(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                     Eigen::MatrixXd& P, Eigen::VectorXd& aB) {
+    const ActiveSet bset = ActiveSet::of(model_, bilateral_);
+    ModelIssue e = aux_dyn_.evaluate(bset, t, q, qd);
+    if (e != ModelIssue::none) return fail(e, aux_dyn_.message());
+    e = aux_dyn_.solve(ReactionMethod::compatibility_structured);
+    if (e != ModelIssue::none) return fail(e, aux_dyn_.message());
+    aB = aux_dyn_.qdd;
+    llt_.compute(aux_dyn_.M);
+    P = llt_.solve(Eigen::MatrixXd::Identity(n_, n_));
+    if (!bilateral_.empty()) {
+      const Eigen::MatrixXd MinvgT = llt_.solve(aux_dyn_.g.transpose());
+      const Eigen::MatrixXd S = aux_dyn_.g * MinvgT;
+      P -= MinvgT * S.ldlt().solve(MinvgT.transpose());
+    }
+    P = 0.5 * (P + P.transpose());
+    return ModelIssue::none;
+  }
+
+  // ---- complementarity problems -------------------------------------------------------------
+
+  /// One contact in a complementarity problem. frictional: the planar Coulomb cone with the
+  /// variables (Λn, β+, β−, ζ), Λt = β+ − β− (Stewart-Trinkle); sliding (acceleration level,
+  /// |v_t| > 0): the friction force −μ σ Λn along the row, variable Λn only; otherwise Λn only.
+  struct Cand {
+    int c = 0;
+    bool frictional = false;
+    int sigma = 0;   ///< sliding direction (acceleration level, sliding contacts)
+    double e = 0.0;  ///< restitution (impulse level)
+    double mu = 0.0;
+    int kn = -1, kt = -1;  ///< rows in J
+    int zn = -1;           ///< first variable
+  };
+
+  /// The LCP w = A z + b of candidates with rows J, Delassus W = J P Jᵀ and free values f (the
+  /// contact velocities before the impulse, or accelerations without contact forces).
+  struct Problem {
+    std::vector<Cand> cands;
+    Eigen::MatrixXd W, E, A;  ///< E: rows of J x variables (Λ_J = E z)
+    Eigen::VectorXd f, b;
+    bool impulse = false;
+  };
+
+  void assemble(Problem& p) const {
+    int nz = 0;
+    for (Cand& k : p.cands) {
+      k.zn = nz;
+      nz += k.frictional ? 4 : 1;
+    }
+    const int nj = static_cast<int>(p.W.rows());
+    p.E = Eigen::MatrixXd::Zero(nj, nz);
+    for (const Cand& k : p.cands) {
+      p.E(k.kn, k.zn) = 1.0;
+      if (k.frictional) {
+        p.E(k.kt, k.zn + 1) = 1.0;
+        p.E(k.kt, k.zn + 2) = -1.0;
+      } else if (k.sigma != 0) {
+        p.E(k.kt, k.zn) = -k.mu * k.sigma;
+      }
+    }
+    const Eigen::MatrixXd WE = p.W * p.E;
+    p.A = Eigen::MatrixXd::Zero(nz, nz);
+    p.b = Eigen::VectorXd::Zero(nz);
+    for (const Cand& k : p.cands) {
+      p.A.row(k.zn) = WE.row(k.kn);
+      p.b[k.zn] = (p.impulse ? 1.0 + k.e : 1.0) * p.f[k.kn];
+      if (!k.frictional) continue;
+      p.A.row(k.zn + 1) = WE.row(k.kt);
+      p.A(k.zn + 1, k.zn + 3) += 1.0;
+      p.b[k.zn + 1] = p.f[k.kt];
+      p.A.row(k.zn + 2) = -WE.row(k.kt);
+      p.A(k.zn + 2, k.zn + 3) += 1.0;
+      p.b[k.zn + 2] = -p.f[k.kt];
+      p.A(k.zn + 3, k.zn) = k.mu;
+      p.A(k.zn + 3, k.zn + 1) = -1.0;
+      p.A(k.zn + 3, k.zn + 2) = -1.0;
+    }
+  }
+
+  /// The single-contact problem in closed form: its complementary solutions are the contact's
+  /// modes (open; closed and sticking; closed and sliding either way), of which the first
+  /// consistent one is taken. Returns false when none is (then the LCP solver decides).
+  bool solve_single(const Problem& p, Eigen::VectorXd& z) const {
+    const Cand& k = p.cands[0];
+    const double qn = p.b[k.zn];
+    const double scale = 1.0 + std::abs(qn) + (k.frictional ? std::abs(p.f[k.kt]) : 0.0);
+    const double tol = 1e-12 * scale;
+    z = Eigen::VectorXd::Zero(p.b.size());
+    if (!k.frictional) {
+      const double a = p.A(k.zn, k.zn);
+      if (qn >= 0.0) return true;  // open (or touching without force)
+      if (!(a > 0.0)) return false;
+      z[k.zn] = -qn / a;
+      return true;
+    }
+    const double Wnn = p.W(k.kn, k.kn), Wnt = p.W(k.kn, k.kt), Wtn = p.W(k.kt, k.kn),
+                 Wtt = p.W(k.kt, k.kt), bt = p.f[k.kt];
+    if (qn >= 0.0) {  // open: no force; ζ takes up the sliding velocity's magnitude
+      z[k.zn + 3] = std::abs(bt);
+      return true;
+    }
+    // Stick: both relative values zero.
+    const double det = Wnn * Wtt - Wnt * Wtn;
+    if (std::abs(det) > 1e-14 * std::abs(Wnn * Wtt)) {
+      const double ln = (-qn * Wtt + bt * Wnt) / det;
+      const double lt = (-bt * Wnn + qn * Wtn) / det;
+      if (ln >= 0.0 && std::abs(lt) <= k.mu * ln + tol) {
+        z[k.zn] = ln;
+        z[k.zn + 1] = std::max(lt, 0.0);
+        z[k.zn + 2] = std::max(-lt, 0.0);
+        return true;
+      }
+    }
+    // Slide: Λt = −σ μ Λn, the sliding value after has the sign σ.
+    for (int sigma : {+1, -1}) {
+      const double a = Wnn - sigma * k.mu * Wnt;
+      if (!(a > 0.0)) continue;
+      const double ln = -qn / a;
+      const double vt_after = bt + (Wtn - sigma * k.mu * Wtt) * ln;
+      if (sigma * vt_after >= -tol) {
+        z[k.zn] = ln;
+        z[k.zn + (sigma > 0 ? 2 : 1)] = k.mu * ln;
+        z[k.zn + 3] = std::max(sigma * vt_after, 0.0);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// Solves the problem: closed form for one candidate (unless options say always), else
+  /// Siconos. Returns false with message_ set when no solution is found.
+  bool solve_problem(Problem& p, double t, Eigen::VectorXd& z) {
+    assemble(p);
+    const bool single = p.cands.size() == 1 && sw_.lcp == SwitchingOptions::Lcp::several_contacts;
+    if (single && solve_single(p, z)) return true;
+    lcp::LcpOptions lo;
+    lo.solver = sw_.lcp_solver;
+    ++lcp_solves_;
+    const lcp::LcpResult r = lcp::solve_lcp(p.A, p.b, lo);
+    if (r.status != lcp::LcpStatus::solved) {
+      message_ = std::string(p.impulse ? "the impact" : "the contact modes") + " at t = " + num(t) +
+                 " (contacts " + names(p) + "): " + r.message;
+      lcp_failed_ = r.status == lcp::LcpStatus::library_unavailable;
+      return false;
+    }
+    z = r.z;
+    return true;
+  }
+
+  std::string names(const Problem& p) const {
+    std::string s;
+    for (const Cand& k : p.cands) s += (s.empty() ? "'" : ", '") + contacts_[k.c].name + "'";
+    return s;
+  }
+
+  /// Rows J (normal, then tangent of each candidate) at the state.
+  void rows_of(Problem& p, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+               Eigen::MatrixXd& J, Eigen::VectorXd& j0, Eigen::VectorXd& jgamma) const {
+    int nj = 0;
+    for (Cand& k : p.cands) {
+      k.kn = nj++;
+      if (contacts_[k.c].friction >= 0 && (k.frictional || k.sigma != 0)) k.kt = nj++;
+    }
+    J.resize(nj, n_);
+    j0.resize(nj);
+    jgamma.resize(nj);
+    for (const Cand& k : p.cands) {
+      const Row rn = normal_row(k.c, t, q, qd);
+      J.row(k.kn) = rn.g;
+      j0[k.kn] = rn.g0;
+      jgamma[k.kn] = rn.gamma;
+      if (k.kt >= 0) {
+        const Row rt = row(contacts_[k.c].friction, t, q, qd);
+        J.row(k.kt) = rt.g;
+        j0[k.kt] = rt.g0;
+        jgamma[k.kt] = rt.gamma;
+      }
+    }
+  }
+
+  // ---- transitions ----------------------------------------------------------------------------
+
+  double pos_tol(const Eigen::VectorXd& q) const {
+    return 10.0 * (opt_.atol + opt_.rtol * q.cwiseAbs().maxCoeff());
+  }
+  double vel_tol(const Eigen::VectorXd& qd) const {
+    return 10.0 * (opt_.atol + opt_.rtol * qd.cwiseAbs().maxCoeff());
+  }
+
+  /// Resolves an impact at (t, q, qd) if a touching contact approaches: Newton's law with the
+  /// impulses of the compatibility equations at impulse level (Coulomb-bounded tangential
+  /// impulses), the accumulation rule, and the events. qd is updated. Returns false on failure.
+  bool impact(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd, const Config& before,
+              std::vector<ContactEvent>& events, std::vector<char>& hit) {
+    const double ptol = pos_tol(q), vtol = vel_tol(qd);
+    Problem p;
+    p.impulse = true;
+    bool approaching = false;
+    for (int c = 0; c < nc(); ++c) {
+      if (!(gap(c, t, q) <= ptol)) continue;
+      Cand k;
+      k.c = c;
+      k.frictional = contacts_[c].friction >= 0;
+      k.e = contacts_[c].e;
+      k.mu = contacts_[c].mu_k;
+      p.cands.push_back(k);
+      approaching = approaching || vn(c, t, q, qd) < -vtol;
+    }
+    if (!approaching) return true;
+    Eigen::MatrixXd J, P;
+    Eigen::VectorXd j0, jg, aB;
+    rows_of(p, t, q, qd, J, j0, jg);
+    if (inertia(t, q, qd, P, aB) != ModelIssue::none) return false;
+    p.W = J * P * J.transpose();
+    p.f = J * qd + j0;  // velocities before
+    const Eigen::VectorXd v_before = p.f;
+    Eigen::VectorXd z;
+    if (!solve_problem(p, t, z)) return false;
+    Eigen::VectorXd Lam = p.E * z;
+    Eigen::VectorXd v_after = v_before + p.W * Lam;
+    // Accumulation: a rebound that would fly less than zeno_time is not flown.
+    std::vector<char> zeno(nc(), 0);
+    bool any_zeno = false;
+    for (const Cand& k : p.cands) {
+      if (!(v_before[k.kn] < -vtol) || !(v_after[k.kn] > vtol) || contacts_[k.c].e == 0.0) continue;
+      const double an = J.row(k.kn).dot(aB) + jg[k.kn];
+      if (an < 0.0 && 2.0 * v_after[k.kn] / -an < sw_.zeno_time) {
+        zeno[k.c] = 1;
+        any_zeno = true;
+      }
+    }
+    if (any_zeno) {
+      for (Cand& k : p.cands)
+        if (zeno[k.c]) k.e = 0.0;
+      if (!solve_problem(p, t, z)) return false;
+      Lam = p.E * z;
+      v_after = v_before + p.W * Lam;
+    }
+    const Eigen::VectorXd dqd = P * (J.transpose() * Lam);
+    for (const Cand& k : p.cands) {
+      const double ln = Lam[k.kn], lt = k.kt >= 0 ? Lam[k.kt] : 0.0;
+      const double vb = v_before[k.kn], va = v_after[k.kn];
+      const double vtb = k.kt >= 0 ? v_before[k.kt] : 0.0, vta = k.kt >= 0 ? v_after[k.kt] : 0.0;
+      const double lost = -0.5 * (ln * (va + vb) + lt * (vta + vtb));
+      if (!(vb < -vtol)) {
+        // A closed contact that took part: its share of the loss is booked with the impact.
+        if (ln != 0.0 || lt != 0.0) pending_loss_[k.c] += lost;
+        continue;
+      }
+      ContactEvent ev;
+      ev.t = t;
+      ev.kind = zeno[k.c] ? ContactEventKind::accumulation : ContactEventKind::impact;
+      ev.contact = k.c;
+      ev.constraint = contacts_[k.c].name;
+      ev.mode_before = before.modes[k.c];
+      ev.normal = ln;
+      ev.tangential = lt;
+      ev.vn_before = vb;
+      ev.vn_after = va;
+      ev.vt_before = vtb;
+      ev.vt_after = vta;
+      ev.energy_lost = lost;
+      hit[k.c] = 1;
+      events.push_back(ev);
+    }
+    qd += dqd;
+    return true;
+  }
+
+  /// Decides the modes of the touching contacts at (t, q, qd) (after any impact): the
+  /// acceleration-level complementarity problem of normal forces and, for contacts at rest
+  /// tangentially, the Coulomb cone with μ_s; sliding contacts keep their direction with μ_k.
+  bool decide(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Config& before,
+              Config& cfg, bool force_lcp) {
+    const double ptol = pos_tol(q), vtol = vel_tol(qd);
+    cfg.modes.assign(nc(), ContactMode::flight);
+    cfg.sigma.assign(nc(), 0);
+    Problem p;
+    for (int c = 0; c < nc(); ++c) {
+      if (!(gap(c, t, q) <= ptol) || !(vn(c, t, q, qd) <= vtol)) continue;
+      Cand k;
+      k.c = c;
+      if (contacts_[c].friction >= 0) {
+        const double v = vt(c, t, q, qd);
+        if (std::abs(v) <= vtol) {
+          k.frictional = true;
+          k.mu = contacts_[c].mu_s;
+        } else {
+          k.sigma = v > 0 ? 1 : -1;
+          k.mu = contacts_[c].mu_k;
+        }
+      }
+      p.cands.push_back(k);
+    }
+    if (p.cands.empty()) return true;
+    Eigen::MatrixXd J, P;
+    Eigen::VectorXd j0, jg, aB;
+    rows_of(p, t, q, qd, J, j0, jg);
+    if (inertia(t, q, qd, P, aB) != ModelIssue::none) return false;
+    p.W = J * P * J.transpose();
+    p.f = J * aB + jg;  // accelerations without contact forces
+    const SwitchingOptions::Lcp saved = sw_.lcp;
+    if (force_lcp) sw_.lcp = SwitchingOptions::Lcp::always;
+    Eigen::VectorXd z;
+    const bool ok = solve_problem(p, t, z);
+    sw_.lcp = saved;
+    if (!ok) return false;
+    const Eigen::VectorXd w = p.A * z + p.b;
+    const Eigen::VectorXd acc = p.f + p.W * (p.E * z);
+    const double scale = 1.0 + p.f.cwiseAbs().maxCoeff() + (p.W * (p.E * z)).cwiseAbs().maxCoeff();
+    const double tol = 1e-9 * scale;
+    for (const Cand& k : p.cands) {
+      const bool separates = z[k.zn] <= tol && w[k.zn] > tol;
+      if (separates) continue;
+      if (contacts_[k.c].friction < 0) {
+        cfg.modes[k.c] = ContactMode::contact;
+      } else if (k.frictional) {
+        const double zeta = z[k.zn + 3];
+        if (zeta <= tol) {
+          cfg.modes[k.c] = ContactMode::stick;
+        } else {
+          cfg.modes[k.c] = ContactMode::slip;
+          cfg.sigma[k.c] = acc[k.kt] > 0 ? 1 : -1;
+        }
+      } else {
+        cfg.modes[k.c] = ContactMode::slip;
+        cfg.sigma[k.c] = k.sigma;
+      }
+    }
+    (void)before;
+    return true;
+  }
+
+  /// Checks a configuration at a state: closed contacts push (λ_n > 0), sticking ones inside
+  /// the cone, sliding ones accelerate along their direction when they start from rest. At a
+  /// rounding-level tie the first offending contact is switched (closed -> open, stick ->
+  /// slip) and 1 is returned; 0 when consistent; -1 on failure.
+  int check(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Config& cfg) {
+    const Layout L = layout(cfg);
+    Solved s;
+    if (solve(aux_dyn_, L, cfg, t, q, qd, s, method_) != ModelIssue::none) {
+      message_ = aux_dyn_.message().empty() ? message_ : aux_dyn_.message();
+      return -1;
+    }
+    for (int c = 0; c < nc(); ++c) {
+      if (!is_closed(cfg.modes[c])) continue;
+      if (!(s.lambda_n[c] > 0.0)) {
+        cfg.modes[c] = ContactMode::flight;
+        cfg.sigma[c] = 0;
+        return 1;
+      }
+      if (cfg.modes[c] == ContactMode::stick &&
+          !(std::abs(s.lambda_t[c]) <= contacts_[c].mu_s * s.lambda_n[c])) {
+        cfg.modes[c] = ContactMode::slip;
+        cfg.sigma[c] = s.lambda_t[c] > 0 ? -1 : 1;  // it slides against the force that held it
+        return 1;
+      }
+    }
+    return 0;
+  }
+
+  /// The full transition at an event (or at t0): impact, modes, consistency, projection, and
+  /// the events of the mode changes. Returns false on failure (message_).
+  bool transition(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd, const Config& before,
+                  const Solved* reactions_before, Config& after, std::vector<ContactEvent>& events,
+                  bool initial) {
+    std::vector<char> hit(nc(), 0);
+    const Eigen::VectorXd qd_before = qd;
+    std::vector<double> vn_b(nc()), vt_b(nc());
+    for (int c = 0; c < nc(); ++c) {
+      vn_b[c] = vn(c, t, q, qd);
+      vt_b[c] = vt(c, t, q, qd);
+    }
+    if (!impact(t, q, qd, before, events, hit)) return false;
+    bool force_lcp = false;
+    for (int attempt = 0;; ++attempt) {
+      if (!decide(t, q, qd, before, after, force_lcp)) return false;
+      int fixes = 0, r = 0;
+      while ((r = check(t, q, qd, after)) == 1 && ++fixes < 2 * nc() + 2) {}
+      if (r == 0) break;
+      if (r < 0 || attempt > 0 || force_lcp) {
+        if (r > 0)
+          message_ = "no consistent set of contact modes at t = " + num(t) +
+                     " (the contacts switch back and forth at one instant)";
+        return false;
+      }
+      force_lcp = true;  // the closed form's choice did not hold: let the LCP decide
+    }
+    // A friction row whose contact leaves stick loses its position-level constant for good.
+    for (int c = 0; c < nc(); ++c)
+      if (!initial && after.modes[c] != ContactMode::stick) anchored_[c] = 0;
+    // Consistent state for the new set: the minimum-norm projection onto the imposed rows.
+    const Layout L = layout(after);
+    double dq = 0.0, dv = 0.0;
+    std::string msg;
+    if (project(L, t, q, qd, dq, dv, msg) != ModelIssue::none) {
+      message_ = "projection onto the new contact set at t = " + num(t) + ": " + msg;
+      return false;
+    }
+    for (ContactEvent& ev : events)
+      if (ev.t == t && hit[ev.contact]) ev.mode_after = after.modes[ev.contact];
+    if (initial) return true;
+    // Events of the mode changes that are not impacts.
+    for (int c = 0; c < nc(); ++c) {
+      const ContactMode mb = before.modes[c], ma = after.modes[c];
+      if (hit[c]) {
+        for (auto it = events.rbegin(); it != events.rend(); ++it)
+          if (it->contact == c && it->t == t) {
+            it->energy_lost += pending_loss_[c];
+            pending_loss_[c] = 0.0;
+            break;
+          }
+        continue;
+      }
+      ContactEvent ev;
+      ev.t = t;
+      ev.contact = c;
+      ev.constraint = contacts_[c].name;
+      ev.mode_before = mb;
+      ev.mode_after = ma;
+      ev.vn_before = vn_b[c];
+      ev.vt_before = vt_b[c];
+      ev.vn_after = vn(c, t, q, qd);
+      ev.vt_after = vt(c, t, q, qd);
+      if (reactions_before && !reactions_before->lambda_n.empty()) {
+        ev.normal = reactions_before->lambda_n[c];
+        ev.tangential = reactions_before->lambda_t[c];
+      }
+      if (is_closed(mb) && !is_closed(ma)) {
+        ev.kind = ContactEventKind::lift_off;
+      } else if (!is_closed(mb) && is_closed(ma)) {
+        ev.kind = ContactEventKind::impact;  // touched down without approach velocity
+      } else if (mb == ContactMode::stick && ma == ContactMode::slip) {
+        ev.kind = ContactEventKind::slip;
+      } else if (mb == ContactMode::slip && ma == ContactMode::stick) {
+        ev.kind = ContactEventKind::stick;
+      } else if (mb == ContactMode::slip && ma == ContactMode::slip && before.sigma[c] != after.sigma[c]) {
+        ev.kind = ContactEventKind::reversal;
+      } else {
+        continue;
+      }
+      ev.energy_lost = pending_loss_[c];
+      pending_loss_[c] = 0.0;
+      events.push_back(ev);
+    }
+    // A closed contact that took part in an impact without a switch of its own: its share of
+    // the loss goes to the first impact of the instant.
+    for (int c = 0; c < nc(); ++c) {
+      if (pending_loss_[c] == 0.0) continue;
+      for (ContactEvent& ev : events)
+        if (ev.t == t && (ev.kind == ContactEventKind::impact || ev.kind == ContactEventKind::accumulation)) {
+          ev.energy_lost += pending_loss_[c];
+          break;
+        }
+      pending_loss_[c] = 0.0;
+    }
+    (void)qd_before;
+    return true;
+  }
+
+  ModelIssue fail(ModelIssue e, std::string message) {
+    message_ = std::move(message);
+    return e;
+  }
+
+  /// A holonomic friction constraint (rolling: s + r φ = const) holds its position-level
+  /// constant only until its contact first leaves stick: after a slip or a flight the contact
+  /// point has moved, and sticking again means v_t = 0 from the new position on. Such an
+  /// unanchored friction row is projected at the velocity level only, and its Φ is not a
+  /// residual.
+  bool position_level(int constraint) const {
+    const int c = contact_of_friction(constraint);
+    return c < 0 || anchored_[c];
+  }
+
+  /// The minimum-norm projection of (q, q̇) onto the imposed rows of L (project_state; with
+  /// unanchored friction rows: positions onto the others, then velocities onto all).
+  ModelIssue project(const Layout& L, double t, Eigen::VectorXd& q, Eigen::VectorXd& qd,
+                     double& dq, double& dv, std::string& msg) {
+    dq = dv = 0.0;
+    if (L.imposed.empty()) return ModelIssue::none;
+    std::vector<int> pos;
+    for (int i : L.imposed)
+      if (position_level(i)) pos.push_back(i);
+    if (pos.size() == L.imposed.size())
+      return project_state(model_, L.imposed, t, q, qd, opt_.kernel, opt_.projection_tol, dq, dv,
+                           msg, pw_);
+    if (!pos.empty()) {
+      const ModelIssue e = project_state(model_, pos, t, q, qd, opt_.kernel, opt_.projection_tol,
+                                         dq, dv, msg, pw_);
+      if (e != ModelIssue::none) return e;
+    }
+    const int s = static_cast<int>(L.imposed.size());
+    pw_.g.resize(s, n_);
+    pw_.g0.resize(s);
+    pw_.gamma.resize(s);
+    model_.constraint_rows(L.imposed, t, q, qd, pw_.g, pw_.g0, pw_.gamma);
+    HuangOptions ho;
+    ho.kernel = opt_.kernel;
+    const HuangResult hr = huang_solve(pw_.g, -(pw_.g * qd + pw_.g0), ho);
+    if (hr.info != 0) {
+      msg = "the velocity projection onto the contact set failed (Huang info " +
+            std::to_string(hr.info) + ")";
+      return ModelIssue::inconsistent_constraints;
+    }
+    qd += hr.x;
+    dv += hr.x.norm();
+    return ModelIssue::none;
+  }
+
+  int contact_of_normal(int constraint) const {
+    for (int c = 0; c < nc(); ++c)
+      if (contacts_[c].normal == constraint) return c;
+    return -1;
+  }
+  int contact_of_friction(int constraint) const {
+    for (int c = 0; c < nc(); ++c)
+      if (contacts_[c].friction == constraint) return c;
+    return -1;
+  }
+
+  const Model& model_;
+  const SimulationOptions& opt_;
+  SwitchingOptions sw_;
+  std::vector<int> active_, bilateral_;
+  std::vector<ContactDef> contacts_;
+  int n_;
+ public:
+  ReactionMethod method_;
+  Dynamics dyn_, aux_dyn_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  ProjectionWork pw_;
+  std::string message_;
+  long lcp_solves_ = 0;
+  bool lcp_failed_ = false;
+  std::vector<double> pending_loss_;
+  std::vector<char> anchored_;  ///< per contact: its friction row still holds its position constant
+};
+
+// Builds the contacts of a run from the active constraints; "" or the reason they cannot be
+// switched.
+std::string contacts_of(const Model& model, const std::vector<int>& active,
+                        std::vector<ContactDef>& out) {
+  for (int i : active) {
+    const ConstraintInfo& ci = model.constraints()[i];
+    if (!ci.contact.unilateral) continue;
+    if (ci.kind != ConstraintKind::holonomic)
+      return "the unilateral constraint '" + ci.name + "' is not holonomic";
+    ContactDef d;
+    d.normal = i;
+    d.sign = ci.contact.gap_sign >= 0 ? 1 : -1;
+    d.e = ci.contact.restitution;
+    d.name = ci.name;
+    out.push_back(d);
+  }
+  for (int i : active) {
+    const ConstraintInfo& ci = model.constraints()[i];
+    if (!ci.contact.is_friction()) continue;
+    ContactDef* owner = nullptr;
+    for (ContactDef& d : out)
+      if (d.normal == ci.contact.friction_of) owner = &d;
+    if (!owner)
+      return "the friction constraint '" + ci.name + "' acts at the unilateral constraint '" +
+             model.constraints()[ci.contact.friction_of].name +
+             "', which is not active (activate both, or neither)";
+    if (owner->friction >= 0)
+      return "the unilateral constraint '" + owner->name + "' has two active friction constraints ('" +
+             model.constraints()[owner->friction].name + "' and '" + ci.name + "'); activate one";
+    owner->friction = i;
+    owner->mu_s = ci.contact.mu_static;
+    owner->mu_k = ci.contact.mu_kinetic;
+  }
+  return "";
+}
+
+}  // namespace
+
+// ---- the run ------------------------------------------------------------------------------------
+
+namespace {
+
+class Run {
+ public:
+  Run(const Model& model, const SimulationOptions& opt, const SwitchingOptions& sw, Engine& eng,
+      SwitchingResult& res, const SwitchingObserver& observer)
+      : model_(model), opt_(opt), sw_(sw), eng_(eng), res_(res), observer_(observer),
+        n_(model.n()), sample_dyn_(model, opt.kernel), event_dyn_(model, opt.kernel) {}
+
+  // The segment's configuration (set before each integration).
+  void configure(const Config& cfg, double t, const Eigen::VectorXd& q) {
+    cfg_ = cfg;
+    layout_ = eng_.layout(cfg);
+    gap_offset_.assign(eng_.nc(), 0.0);
+    for (int c = 0; c < eng_.nc(); ++c)
+      if (!is_closed(cfg.modes[c])) gap_offset_[c] = std::min(eng_.gap(c, t, q), 0.0);
+    modes_ = cfg.modes;
+  }
+
+  bool rhs(double t, const double* y, double* out) {
+    q_ = Eigen::Map<const Eigen::VectorXd>(y, n_);
+    qd_ = Eigen::Map<const Eigen::VectorXd>(y + n_, n_);
+    if (eng_.solve(eng_.dyn_, layout_, cfg_, t, q_, qd_, rhs_solved_, eng_.method_) != ModelIssue::none) {
+      last_failure_ = eng_.dyn_.message().empty() ? eng_.message_ : eng_.dyn_.message();
+      model_failed_ = true;
+      return false;
+    }
+    Eigen::Map<Eigen::VectorXd>(out, n_) = qd_;
+    Eigen::Map<Eigen::VectorXd>(out + n_, n_) = rhs_solved_.qdd;
+    return true;
+  }
+
+  // Event functions of the segment, in the order of `kinds_`.
+  struct EventFn {
+    int c;
+    enum Kind { lift_off, cone_plus, cone_minus, sliding, gap } kind;
+  };
+  std::vector<EventFn> event_functions() const {
+    std::vector<EventFn> ev;
+    for (int c = 0; c < eng_.nc(); ++c) {
+      switch (cfg_.modes[c]) {
+        case ContactMode::flight: ev.push_back({c, EventFn::gap}); break;
+        case ContactMode::contact: ev.push_back({c, EventFn::lift_off}); break;
+        case ContactMode::stick:
+          ev.push_back({c, EventFn::lift_off});
+          ev.push_back({c, EventFn::cone_plus});
+          ev.push_back({c, EventFn::cone_minus});
+          break;
+        case ContactMode::slip:
+          ev.push_back({c, EventFn::lift_off});
+          ev.push_back({c, EventFn::sliding});
+          break;
+      }
+    }
+    return ev;
+  }
+
+  bool events(double t, const double* y, double* g) {
+    q_e_ = Eigen::Map<const Eigen::VectorXd>(y, n_);
+    qd_e_ = Eigen::Map<const Eigen::VectorXd>(y + n_, n_);
+    bool solved = false;
+    for (std::size_t i = 0; i < fns_.size(); ++i) {
+      const EventFn& f = fns_[i];
+      if (f.kind == EventFn::gap) {
+        g[i] = eng_.gap(f.c, t, q_e_) - gap_offset_[f.c];
+        continue;
+      }
+      if (f.kind == EventFn::sliding) {
+        g[i] = cfg_.sigma[f.c] * eng_.vt(f.c, t, q_e_, qd_e_);
+        continue;
+      }
+      if (!solved) {
+        if (eng_.solve(event_dyn_, layout_, cfg_, t, q_e_, qd_e_, ev_solved_, eng_.method_) != ModelIssue::none)
+          return false;
+        solved = true;
+      }
+      const double ln = ev_solved_.lambda_n[f.c], lt = ev_solved_.lambda_t[f.c];
+      const double mu = eng_.contacts()[f.c].mu_s;
+      g[i] = f.kind == EventFn::lift_off ? ln : f.kind == EventFn::cone_plus ? mu * ln - lt : mu * ln + lt;
+    }
+    return true;
+  }
+
+  /// The shortest predicted flight of the contacts that have just opened (gap within the
+  /// tolerance, moving apart): 2 v_n / |a_n| with a_n from the segment's accelerations; +inf if
+  /// none is pulled back.
+  double shortest_flight(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    double tau = std::numeric_limits<double>::infinity();
+    bool solved = false;
+    for (int c = 0; c < eng_.nc(); ++c) {
+      if (is_closed(cfg_.modes[c]) || !(eng_.gap(c, t, q) <= eng_.pos_tol(q))) continue;
+      const double v = eng_.vn(c, t, q, qd);
+      if (!solved) {
+        if (eng_.solve(event_dyn_, layout_, cfg_, t, q, qd, ev_solved_, eng_.method_) != ModelIssue::none)
+          return tau;
+        solved = true;
+      }
+      const Row r = eng_.normal_row(c, t, q, qd);
+      const double a = r.g.dot(ev_solved_.qdd) + r.gamma;
+      if (a < 0.0 && v > 0.0) tau = std::min(tau, 2.0 * v / -a);
+      else if (a < 0.0) tau = std::min(tau, std::sqrt(2.0 * eng_.pos_tol(q) / -a));
+    }
+    return tau;
+  }
+
+  // ---- samples for the observer ----------------------------------------------------------------
+
+  void fill_sample(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Sample& out) {
+    out.t = t;
+    out.q = q;
+    out.qd = qd;
+    if (eng_.solve(sample_dyn_, layout_, cfg_, t, q, qd, sample_solved_, eng_.method_) == ModelIssue::none) {
+      out.qdd = sample_solved_.qdd;
+      out.R = sample_solved_.R;
+      out.lambda = sample_solved_.lambda;
+    } else {
+      out.qdd = Eigen::VectorXd::Constant(n_, std::nan(""));
+      out.R = out.qdd;
+      out.lambda = Eigen::VectorXd::Constant(layout_.s_A, std::nan(""));
+    }
+    model_.derived(t, q, qd, out.qdd, out.R, out.derived);
+    out.residual_pos = 0.0;
+    for (int i : layout_.imposed)
+      if (model_.constraints()[i].kind == ConstraintKind::holonomic && eng_.position_level(i))
+        out.residual_pos = std::max(out.residual_pos, std::abs(model_.position_residual(i, t, q)));
+    out.residual_vel = layout_.s_A > 0
+                           ? (sample_dyn_.g.topRows(layout_.s_A) * qd + sample_dyn_.g0.head(layout_.s_A))
+                                 .cwiseAbs()
+                                 .maxCoeff()
+                           : 0.0;
+  }
+
+  static const Sample& view_at(const void* self, double s) {
+    return const_cast<Run*>(static_cast<const Run*>(self))->sample_in_step(s);
+  }
+
+  const Sample& sample_in_step(double s) {
+    if (step_ == nullptr || s >= step_end_ || step_end_ == step_->t_prev) s = current_t_;
+    if (cache_valid_ && cache_.t == s) return cache_;
+    if (s == current_t_) {
+      fill_sample(current_t_, current_q_, current_qd_, cache_);
+    } else {
+      dense_.resize(2 * n_);
+      step_->dense(std::max(s, step_->t_prev), dense_.data());
+      dq_ = dense_.head(n_);
+      dqd_ = dense_.tail(n_);
+      fill_sample(s, dq_, dqd_, cache_);
+    }
+    cache_valid_ = true;
+    return cache_;
+  }
+
+  bool observe(const StepInfo* step, double t_prev, double t, const Eigen::VectorXd& q,
+               const Eigen::VectorXd& qd) {
+    step_ = step;
+    step_end_ = t;
+    current_t_ = t;
+    current_q_ = q;
+    current_qd_ = qd;
+    cache_valid_ = false;
+    if (!observer_) return true;
+    StepView view;
+    view.t_prev = t_prev;
+    view.t = t;
+    view.impl_ = this;
+    view.impl_at_ = &Run::view_at;
+    try {
+      return observer_(view, modes_);
+    } catch (const std::exception& ex) {
+      observer_error_ = std::string("the step observer threw: ") + ex.what();
+    } catch (...) {
+      observer_error_ = "the step observer threw an unknown exception";
+    }
+    return false;
+  }
+
+  // ---- statistics over a step ------------------------------------------------------------------
+
+  void dense_at(const StepInfo& step, double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
+    dense_.resize(2 * n_);
+    step.dense(s, dense_.data());
+    q = dense_.head(n_);
+    qd = dense_.tail(n_);
+  }
+
+  void account(const StepInfo& step, double a, double b) {
+    if (!(b > a)) return;
+    const double w0 = sw_.window_start;
+    const double wa = std::max(a, w0), wlen = std::max(0.0, b - wa);
+    for (int c = 0; c < eng_.nc(); ++c) {
+      ContactStats& st = res_.contacts[c];
+      const ContactMode m = cfg_.modes[c];
+      if (is_closed(m)) {
+        st.run.closed_time += b - a;
+        st.window.closed_time += wlen;
+      }
+      if (m == ContactMode::slip) {
+        st.run.slip_time += b - a;
+        st.window.slip_time += wlen;
+        // ∫ |v_t| and ∫ μ_k λ_n |v_t| by 3-point Gauss-Legendre on the dense output (|v_t| =
+        // σ v_t is smooth within a sliding segment).
+        auto integrate = [&](double lo, double hi, double& dist, double& energy) {
+          if (!(hi > lo)) return;
+          const double cm = 0.5 * (lo + hi), hw = 0.5 * (hi - lo), r = std::sqrt(0.6);
+          const double xs[3] = {cm - hw * r, cm, cm + hw * r}, ws[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+          for (int k = 0; k < 3; ++k) {
+            dense_at(step, xs[k], sq_, sqd_);
+            const double v = std::abs(eng_.vt(c, xs[k], sq_, sqd_));
+            double ln = 0.0;
+            if (eng_.solve(sample_dyn_, layout_, cfg_, xs[k], sq_, sqd_, sample_solved_, eng_.method_) ==
+                ModelIssue::none)
+              ln = sample_solved_.lambda_n[c];
+            dist += hw * ws[k] * v;
+            energy += hw * ws[k] * eng_.contacts()[c].mu_k * ln * v;
+          }
+        };
+        integrate(a, b, st.run.slip_distance, st.run.energy_friction);
+        integrate(wa, b, st.window.slip_distance, st.window.energy_friction);
+      }
+      if (m == ContactMode::flight) {
+        // The flight's highest gap: the step end, and an apex inside the step where the gap
+        // rate falls through 0 (bisection on the dense output).
+        dense_at(step, b, sq_, sqd_);
+        double top = eng_.gap(c, b, sq_);
+        dense_at(step, a, sq_, sqd_);
+        double va = eng_.vn(c, a, sq_, sqd_);
+        dense_at(step, b, sq_, sqd_);
+        double vb = eng_.vn(c, b, sq_, sqd_);
+        if (va > 0.0 && vb <= 0.0) {
+          double lo = a, hi = b;
+          for (int it = 0; it < 60 && hi - lo > 1e-14 * (1.0 + std::abs(hi)); ++it) {
+            const double mid = 0.5 * (lo + hi);
+            dense_at(step, mid, sq_, sqd_);
+            if (eng_.vn(c, mid, sq_, sqd_) > 0.0) lo = mid; else hi = mid;
+          }
+          dense_at(step, 0.5 * (lo + hi), sq_, sqd_);
+          top = std::max(top, eng_.gap(c, 0.5 * (lo + hi), sq_));
+        }
+        if (!st.flights.empty()) st.flights.back().max_gap = std::max(st.flights.back().max_gap, top);
+        st.run.max_flight_height = std::max(st.run.max_flight_height, top);
+        if (b > w0) st.window.max_flight_height = std::max(st.window.max_flight_height, top);
+      }
+    }
+  }
+
+  // ---- the step callback -----------------------------------------------------------------------
+
+  StepAction on_step(StepInfo& step) {
+    Eigen::Map<Eigen::VectorXd> y(step.y, 2 * n_);
+    Eigen::VectorXd q = y.head(n_), qd = y.tail(n_);
+    // A gap that dips below zero and comes back within one step is not a sign change of the
+    // event function: look for it on the dense output, and end the step there.
+    double t_end = step.t;
+    bool late = false;
+    for (int c = 0; c < eng_.nc() && !late; ++c) {
+      if (is_closed(cfg_.modes[c])) continue;
+      constexpr int K = 8;
+      double prev_t = step.t_prev;  // the last sample with a positive gap
+      for (int k = 1; k <= K; ++k) {
+        const double s = step.t_prev + (step.t - step.t_prev) * k / K;
+        dense_at(step, s, sq_, sqd_);
+        // Below the rounding noise of the gap (1e3 eps of the coordinates' size).
+        const double g = eng_.gap(c, s, sq_) - gap_offset_[c];
+        const double noise = 1e3 * 2.220446049250313e-16 * (1.0 + sq_.cwiseAbs().maxCoeff());
+        if (g > 0.0) prev_t = s;
+        if (g < -noise) {
+          double lo = prev_t, hi = s;
+          for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
+            const double mid = 0.5 * (lo + hi);
+            dense_at(step, mid, sq_, sqd_);
+            if (eng_.gap(c, mid, sq_) - gap_offset_[c] < 0.0) hi = mid; else lo = mid;
+          }
+          t_end = hi;
+          late = true;
+          break;
+        }
+      }
+    }
+    if (late) {
+      dense_at(step, t_end, q, qd);
+      late_state_q_ = q;
+      late_state_qd_ = qd;
+      late_t_ = t_end;
+      late_found_ = true;
+      ++res_.late_roots;
+    }
+    bool modified = false;
+    if (!late && !layout_.imposed.empty()) {
+      double dq = 0.0, dv = 0.0;
+      std::string msg;
+      const ModelIssue e = eng_.project(layout_, step.t, q, qd, dq, dv, msg);
+      if (e != ModelIssue::none) {
+        projection_issue_ = e;
+        projection_message_ = msg;
+        return StepAction::stop;
+      }
+      if (dq > 0.0 || dv > 0.0) {
+        y.head(n_) = q;
+        y.tail(n_) = qd;
+        modified = true;
+      }
+    }
+    track_residuals(t_end, q, qd);
+    account(step, step.t_prev, t_end);
+    if (!observe(&step, step.t_prev, t_end, q, qd)) {
+      stopped_ = true;
+      return StepAction::stop;
+    }
+    if (late) return StepAction::stop;
+    return modified ? StepAction::state_modified : StepAction::proceed;
+  }
+
+  void track_residuals(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    for (int i : layout_.imposed) {
+      const Row r = eng_.row(i, t, q, qd);
+      res_.residual_vel_max = std::max(res_.residual_vel_max, std::abs(r.value(qd)));
+      if (model_.constraints()[i].kind == ConstraintKind::holonomic && eng_.position_level(i))
+        res_.residual_pos_max =
+            std::max(res_.residual_pos_max, std::abs(model_.position_residual(i, t, q)));
+    }
+  }
+
+  const Model& model_;
+  const SimulationOptions& opt_;
+  const SwitchingOptions& sw_;
+  Engine& eng_;
+  SwitchingResult& res_;
+  const SwitchingObserver& observer_;
+  int n_;
+  Config cfg_;
+  Layout layout_;
+  std::vector<EventFn> fns_;
+  std::vector<double> gap_offset_;
+  std::vector<ContactMode> modes_;
+  Dynamics sample_dyn_, event_dyn_;
+  Solved rhs_solved_, ev_solved_, sample_solved_;
+  Eigen::VectorXd q_, qd_, q_e_, qd_e_, dense_, dq_, dqd_, sq_, sqd_;
+  ProjectionWork pw_;
+  const StepInfo* step_ = nullptr;
+  double step_end_ = 0.0, current_t_ = 0.0;
+  Eigen::VectorXd current_q_, current_qd_;
+  Sample cache_;
+  bool cache_valid_ = false;
+  bool model_failed_ = false, stopped_ = false;
+  std::string last_failure_, observer_error_, projection_message_;
+  ModelIssue projection_issue_ = ModelIssue::none;
+  bool late_found_ = false;
+  double late_t_ = 0.0;
+  Eigen::VectorXd late_state_q_, late_state_qd_;
+};
+
+void add_stats(SwitchingResult& res, const OdeResult& rr) {
+  res.stats.f_evals += rr.f_evals;
+  res.stats.steps += rr.steps;
+  res.stats.accepted += rr.accepted;
+  res.stats.rejected += rr.rejected;
+  res.stats.jacobians += rr.radau_stats.jacobians;
+  res.stats.lu_decompositions += rr.radau_stats.lu_decompositions;
+  res.stats.linear_solves += rr.radau_stats.linear_solves;
+  res.used_explicit = res.used_explicit || rr.used_explicit;
+  res.used_radau = res.used_radau || rr.used_radau;
+  if (std::isnan(res.switch_time) && !std::isnan(rr.switch_time)) res.switch_time = rr.switch_time;
+}
+
+void count_event(SwitchingResult& res, const ContactEvent& ev, double w0) {
+  ContactStats& st = res.contacts[ev.contact];
+  for (ContactStats::Totals* tot : {&st.run, &st.window}) {
+    if (tot == &st.window && !(ev.t >= w0)) continue;
+    switch (ev.kind) {
+      case ContactEventKind::lift_off: ++tot->lift_offs; break;
+      case ContactEventKind::impact:
+      case ContactEventKind::accumulation:
+        ++tot->impacts;
+        tot->max_impact_velocity = std::max(tot->max_impact_velocity, -ev.vn_before);
+        break;
+      case ContactEventKind::slip: ++tot->slips; break;
+      case ContactEventKind::stick: ++tot->sticks; break;
+      case ContactEventKind::reversal: ++tot->reversals; break;
+    }
+    tot->energy_impacts += ev.energy_lost;
+  }
+}
+
+}  // namespace
+
+SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0,
+                                   const Eigen::VectorXd& qd0, const SimulationOptions& options,
+                                   const SwitchingOptions& switching,
+                                   const SwitchingObserver& observer) {
+  SwitchingResult res;
+  res.t = options.t0;
+  res.q_end = q0;
+  res.qd_end = qd0;
+  auto refuse = [&](SimulationStatus st, ModelIssue issue, const std::string& msg) {
+    res.status = st;
+    res.issue = issue;
+    res.message = "model '" + model.name() + "': " + msg;
+    return res;
+  };
+  if (options.form != Form::ode)
+    return refuse(SimulationStatus::invalid_model, ModelIssue::none,
+                  "switching contacts needs the ODE form (solver.form = \"ode\")");
+  const CheckResult check =
+      check_model(model, options.active_constraints, options.t0, q0, qd0, options.kernel);
+  if (check.issue != ModelIssue::none)
+    return refuse(SimulationStatus::invalid_model, check.issue, check.message);
+  std::vector<ContactDef> defs;
+  if (const std::string why = contacts_of(model, check.active, defs); !why.empty())
+    return refuse(SimulationStatus::invalid_model, ModelIssue::unknown_constraint, why);
+  Engine eng(model, options, switching, check.active, defs);
+  eng.pending_loss_.assign(eng.nc(), 0.0);
+  eng.anchored_.assign(eng.nc(), 1);
+  const int n = model.n();
+  for (const ContactDef& d : defs) {
+    ContactStats st;
+    st.name = d.name;
+    st.friction = d.friction >= 0 ? model.constraints()[d.friction].name : "";
+    res.contacts.push_back(st);
+  }
+  const double w0 = std::max(options.t0, switching.window_start);
+  res.window_length = std::max(0.0, options.t_end - w0);
+
+  // The initial modes: every touching contact as at an event (an approaching one is an impact
+  // at t0), the others in flight; then the state projected onto the resulting set.
+  Eigen::VectorXd q = q0, qd = qd0;
+  Config cfg;
+  cfg.modes.assign(eng.nc(), ContactMode::flight);
+  cfg.sigma.assign(eng.nc(), 0);
+  {
+    // Bilateral constraints first (the contacts are decided on a consistent state).
+    std::vector<int> bil;
+    for (int i : check.active)
+      if (!model.constraints()[i].contact.unilateral && !model.constraints()[i].contact.is_friction())
+        bil.push_back(i);
+    ProjectionWork pw;
+    std::string msg;
+    double dq = 0, dv = 0;
+    if (!bil.empty() && project_state(model, bil, options.t0, q, qd, options.kernel,
+                                      options.projection_tol, dq, dv, msg, pw) != ModelIssue::none)
+      return refuse(SimulationStatus::inconsistent_start, ModelIssue::inconsistent_constraints,
+                    "consistent initial values: " + msg);
+    // Contacts declared active start closed when they touch (within the tolerance): project them.
+    Config start = cfg;
+    std::vector<ContactEvent> none;
+    Config decided;
+    if (!eng.transition(options.t0, q, qd, start, nullptr, decided, none, true))
+      return refuse(SimulationStatus::inconsistent_start, ModelIssue::inconsistent_constraints,
+                    "the initial contact modes: " + eng.message_);
+    for (const ContactEvent& ev : none) {
+      res.events.push_back(ev);
+      count_event(res, ev, w0);
+    }
+    cfg = decided;
+    res.initial_correction_pos = (q - q0).norm();
+    res.initial_correction_vel = (qd - qd0).norm();
+  }
+
+  Run run(model, options, switching, eng, res, observer);
+  run.configure(cfg, options.t0, q);
+  for (int c = 0; c < eng.nc(); ++c)
+    if (!is_closed(cfg.modes[c])) res.contacts[c].flights.push_back({options.t0, options.t_end, eng.gap(c, options.t0, q)});
+  run.track_residuals(options.t0, q, qd);
+  if (!run.observe(nullptr, options.t0, options.t0, q, qd)) {
+    res.status = run.observer_error_.empty() ? SimulationStatus::stopped_by_observer
+                                             : SimulationStatus::observer_error;
+    res.message = run.observer_error_;
+    res.q_end = q;
+    res.qd_end = qd;
+    return res;
+  }
+
+  double t = options.t0;
+  double h_next = options.h0;
+  double last_event_time = -std::numeric_limits<double>::infinity();
+  int events_at_instant = 0;
+  long total_events = static_cast<long>(res.events.size());
+  Eigen::VectorXd y(2 * n);
+  while (true) {
+    ++res.segments;
+    run.fns_ = run.event_functions();
+    OdeProblem problem;
+    problem.n = 2 * n;
+    problem.rhs = [&run](double tt, const double* yy, double* f) { return run.rhs(tt, yy, f); };
+    if (options.linear_algebra != RadauOptions::LinearAlgebra::lapack) {
+      problem.second_order_count = n;
+      problem.second_order_stride = n;
+    }
+    OdeOptions oo;
+    oo.kernel = options.kernel;
+    oo.rtol = options.rtol;
+    oo.atol = options.atol;
+    oo.h0 = h_next;
+    // A contact that has just left the surface starts its gap function at zero, which the
+    // kernels judge by its sign after the first step: that step must end inside the flight, or
+    // a flight shorter than one step (the free parabola is integrated exactly, so steps grow
+    // fast) would be missed. The first step is kept below a quarter of the predicted flight,
+    // 2 v_n / |a_n| with the acceleration of the new set.
+    {
+      const double tau = run.shortest_flight(t, q, qd);
+      if (std::isfinite(tau)) oo.h0 = (oo.h0 > 0.0 ? std::min(oo.h0, 0.25 * tau) : 0.25 * tau);
+    }
+    oo.hmax = options.hmax;
+    bool open_or_sliding = false;
+    for (ContactMode m : cfg.modes) open_or_sliding = open_or_sliding || m == ContactMode::flight || m == ContactMode::slip;
+    if (open_or_sliding && switching.flight_hmax > 0.0)
+      oo.hmax = oo.hmax > 0.0 ? std::min(oo.hmax, switching.flight_hmax) : switching.flight_hmax;
+    oo.max_steps = std::max(1L, options.max_steps - res.stats.steps);
+    oo.radau.linear_algebra = options.linear_algebra;
+    oo.events.count = static_cast<int>(run.fns_.size());
+    oo.events.direction.assign(run.fns_.size(), -1);
+    oo.events.g = [&run](double tt, const double* yy, double* g) { return run.events(tt, yy, g); };
+    y.head(n) = q;
+    y.tail(n) = qd;
+    run.late_found_ = false;
+    const OdeResult rr = ode_integrate(problem, t, y, options.t_end, oo, options.method,
+                                       [&run](StepInfo& s) { return run.on_step(s); });
+    add_stats(res, rr);
+    res.integrator_status = rr.status;
+    if (rr.h_last > 0.0) h_next = std::abs(rr.h_last);
+    if (run.projection_issue_ != ModelIssue::none) {
+      res.status = SimulationStatus::projection_failed;
+      res.issue = run.projection_issue_;
+      res.t = rr.t;
+      res.message = "drift projection failed at t = " + num(rr.t) + ": " + run.projection_message_;
+      break;
+    }
+    if (!run.observer_error_.empty()) {
+      res.status = SimulationStatus::observer_error;
+      res.message = run.observer_error_;
+      res.t = run.current_t_;
+      q = run.current_q_;
+      qd = run.current_qd_;
+      break;
+    }
+    if (run.stopped_) {
+      res.status = SimulationStatus::stopped_by_observer;
+      res.t = run.current_t_;
+      q = run.current_q_;
+      qd = run.current_qd_;
+      break;
+    }
+    const bool late = run.late_found_;
+    if (!late && rr.status == OdeStatus::success) {
+      res.status = SimulationStatus::success;
+      res.t = rr.t;
+      q = rr.y.head(n);
+      qd = rr.y.tail(n);
+      break;
+    }
+    if (!late && rr.status != OdeStatus::root_found) {
+      res.status = run.model_failed_ ? SimulationStatus::model_failed : SimulationStatus::integration_failed;
+      res.t = rr.t;
+      res.message = rr.message + (run.model_failed_ ? "; the model could not be evaluated: " + run.last_failure_ : "");
+      q = rr.y.size() == 2 * n ? Eigen::VectorXd(rr.y.head(n)) : q;
+      qd = rr.y.size() == 2 * n ? Eigen::VectorXd(rr.y.tail(n)) : qd;
+      break;
+    }
+    // An event: the state at the root (on its far side), the reactions there with the old set.
+    if (late) {
+      t = run.late_t_;
+      q = run.late_state_q_;
+      qd = run.late_state_qd_;
+    } else {
+      t = rr.t;
+      q = rr.y.head(n);
+      qd = rr.y.tail(n);
+    }
+    Solved before;
+    eng.solve(eng.aux_dyn_, run.layout_, cfg, t, q, qd, before, eng.method_);
+    Config next;
+    std::vector<ContactEvent> evs;
+    if (!eng.transition(t, q, qd, cfg, &before, next, evs, false)) {
+      res.status = SimulationStatus::model_failed;
+      res.t = t;
+      res.message = "switching failed at t = " + num(t) + ": " + eng.message_;
+      if (eng.lcp_failed_) res.issue = ModelIssue::kernel_failure;
+      break;
+    }
+    for (const ContactEvent& ev : evs) {
+      res.events.push_back(ev);
+      count_event(res, ev, w0);
+      ContactStats& st = res.contacts[ev.contact];
+      if (is_closed(ev.mode_before) && !is_closed(ev.mode_after)) st.flights.push_back({t, options.t_end, 0.0});
+      if (!is_closed(ev.mode_before) && is_closed(ev.mode_after) && !st.flights.empty()) st.flights.back().end = t;
+      if (!is_closed(ev.mode_before) && !is_closed(ev.mode_after) && !st.flights.empty()) {
+        st.flights.back().end = t;  // a bounce: one flight ends, the next begins
+        st.flights.push_back({t, options.t_end, 0.0});
+      }
+    }
+    total_events += static_cast<long>(evs.size());
+    events_at_instant = (t - last_event_time <= 1e-12 * (1.0 + std::abs(t))) ? events_at_instant + 1 : 0;
+    last_event_time = t;
+    if (events_at_instant > switching.max_events_at_one_instant || total_events > switching.max_events) {
+      res.status = SimulationStatus::model_failed;
+      res.t = t;
+      res.message = "switching does not settle at t = " + num(t) + ": " +
+                    (total_events > switching.max_events
+                         ? std::to_string(total_events) + " events, more than contact.max_events"
+                         : std::to_string(events_at_instant) + " switches at one instant");
+      break;
+    }
+    cfg = next;
+    run.configure(cfg, t, q);
+    if (t >= options.t_end) {
+      res.status = SimulationStatus::success;
+      res.t = t;
+      break;
+    }
+  }
+  res.q_end = q;
+  res.qd_end = qd;
+  res.lcp_solves = eng.lcp_solves_;
+  for (ContactStats& st : res.contacts)
+    if (!st.flights.empty() && st.flights.back().end > res.t) st.flights.back().end = res.t;
+  return res;
+}
+
+// ---- switching_reactions (tests of the two formulations) ------------------------------------------
+
+ReactionResult switching_reactions(const Model& model, const std::vector<std::string>& active,
+                                   const std::vector<ContactMode>& modes,
+                                   const std::vector<int>& slip_sign, double t,
+                                   const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                   ReactionMethod method, Kernel kernel) {
+  ReactionResult out;
+  std::vector<int> idx;
+  std::string msg;
+  if (const ModelIssue e = resolve_constraints(model, active, idx, msg); e != ModelIssue::none) {
+    out.issue = e;
+    out.message = msg;
+    return out;
+  }
+  std::vector<ContactDef> defs;
+  if (const std::string why = contacts_of(model, idx, defs); !why.empty()) {
+    out.issue = ModelIssue::unknown_constraint;
+    out.message = why;
+    return out;
+  }
+  if (modes.size() != defs.size() || slip_sign.size() != defs.size()) {
+    out.issue = ModelIssue::unknown_constraint;
+    out.message = "switching_reactions: one mode and one slip sign per unilateral constraint";
+    return out;
+  }
+  SimulationOptions opt;
+  opt.kernel = kernel;
+  SwitchingOptions sw;
+  Engine eng(model, opt, sw, idx, defs);
+  eng.anchored_.assign(eng.nc(), 1);
+  eng.pending_loss_.assign(eng.nc(), 0.0);
+  Config cfg;
+  cfg.modes = modes;
+  cfg.sigma = slip_sign;
+  const Layout L = eng.layout(cfg);
+  Solved s;
+  Dynamics d(model, kernel);
+  const ModelIssue e = eng.solve(d, L, cfg, t, q, qd, s, method);
+  if (e != ModelIssue::none) {
+    out.issue = e;
+    out.message = d.message().empty() ? eng.message_ : d.message();
+    return out;
+  }
+  out.R = s.R;
+  out.qdd = s.qdd;
+  out.lambda = s.lambda;
+  return out;
+}
+
+}  // namespace pcsim::mech
