@@ -1267,10 +1267,22 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
   if (options.form != Form::ode)
     return refuse(SimulationStatus::invalid_model, ModelIssue::none,
                   "switching contacts needs the ODE form (solver.form = \"ode\")");
-  const CheckResult check =
-      check_model(model, options.active_constraints, options.t0, q0, qd0, options.kernel);
-  if (check.issue != ModelIssue::none)
-    return refuse(SimulationStatus::invalid_model, check.issue, check.message);
+  // The constraint names; then the model and the bilateral constraints as simulate() checks
+  // them (the contacts are checked in the set the initial modes impose: all of them together
+  // may well exceed the coordinates, as a block's two corners with friction do).
+  CheckResult check;
+  {
+    std::string msg;
+    check.issue = resolve_constraints(model, options.active_constraints, check.active, msg);
+    if (check.issue != ModelIssue::none)
+      return refuse(SimulationStatus::invalid_model, check.issue, msg);
+    std::vector<std::string> bilateral;
+    for (int i : check.active)
+      if (!model.constraints()[i].contact.unilateral && !model.constraints()[i].contact.is_friction())
+        bilateral.push_back(model.constraints()[i].name);
+    const CheckResult cb = check_model(model, bilateral, options.t0, q0, qd0, options.kernel);
+    if (cb.issue != ModelIssue::none) return refuse(SimulationStatus::invalid_model, cb.issue, cb.message);
+  }
   std::vector<ContactDef> defs;
   if (const std::string why = contacts_of(model, check.active, defs); !why.empty())
     return refuse(SimulationStatus::invalid_model, ModelIssue::unknown_constraint, why);
@@ -1318,6 +1330,11 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
       count_event(res, ev, w0);
     }
     cfg = decided;
+    std::vector<std::string> imposed;
+    for (int i : eng.layout(cfg).imposed) imposed.push_back(model.constraints()[i].name);
+    const CheckResult ci = check_model(model, imposed, options.t0, q, qd, options.kernel);
+    if (ci.issue != ModelIssue::none)
+      return refuse(SimulationStatus::invalid_model, ci.issue, "with the initial contact modes: " + ci.message);
     res.initial_correction_pos = (q - q0).norm();
     res.initial_correction_vel = (qd - qd0).norm();
   }

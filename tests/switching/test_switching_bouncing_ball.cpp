@@ -8,6 +8,8 @@
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <string>
 
 #include "switching_util.hpp"
 
@@ -109,4 +111,19 @@ BOOST_AUTO_TEST_CASE(an_elastic_ball_bounces_with_period_2_t1_forever) {
   BOOST_TEST(events_of(r, ContactEventKind::accumulation).empty());
   BOOST_TEST(r.contacts[0].run.max_flight_height <= kH * (1 + 1e-10));
   BOOST_TEST(r.contacts[0].run.max_flight_height >= kH * (1 - 1e-10));
+}
+
+// A single contact's complementarity problem is solved in closed form: none of the runs above
+// loads the LCP plugin, hence neither Siconos nor the OpenBLAS it links.
+BOOST_AUTO_TEST_CASE(single_contact_runs_never_load_siconos_or_openblas) {
+  BOOST_TEST(!lcp::lcp_library_loaded());
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  bool siconos = false, openblas = false;
+  while (std::getline(maps, line)) {
+    siconos = siconos || line.find("siconos") != std::string::npos;
+    openblas = openblas || line.find("openblas") != std::string::npos;
+  }
+  BOOST_TEST(!siconos);
+  BOOST_TEST(!openblas);
 }

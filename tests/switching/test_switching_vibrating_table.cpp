@@ -1,0 +1,83 @@
+// A ball on a sinusoidally vibrating table (models/contact/table_ball.toml), the sieve's physics
+// in one coordinate, against the closed form: the table z = A sin(omega t) pushes the ball with
+// m (g - A omega^2 sin(omega t)), which vanishes (lift-off) at sin(omega t*) = g / (A omega^2);
+// the ball then flies on the parabola y* + v* (t - t*) - g (t - t*)^2 / 2 and lands where it
+// meets z(t) again (that equation solved here by bisection to 1e-15 s). The flight is a
+// parabola, which the integrators follow exactly; the event times are located to ~1e-13 s.
+// Tolerances: 1e-10 s for the event times, 1e-9 m/s for the landing speed.
+#define BOOST_TEST_MODULE switching_vibrating_table
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+
+#include "switching_util.hpp"
+
+using namespace switching_test;
+
+namespace {
+constexpr double kG = 9.81, kA = 0.002, kW = 100.0;
+}
+
+BOOST_AUTO_TEST_CASE(lift_off_flight_and_landing_follow_the_closed_form) {
+  for (OdeMethod method : {OdeMethod::radau, OdeMethod::explicit_rk}) {
+    auto m = contact_model("table_ball", {{"A", kA}, {"omega", kW}});
+    SimulationOptions o;
+    o.method = method;
+    o.rtol = o.atol = 1e-11;
+    SwitchingOptions sw;
+    sw.flight_hmax = 2 * M_PI / kW / 16;
+    const double T = 0.2;
+    const auto r = run(*m, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, kA * kW), T, o, sw);
+    BOOST_TEST_CONTEXT(to_string(method)) {
+      BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+      // Lift-off: the table's downward acceleration reaches g.
+      const double ts = std::asin(kG / (kA * kW * kW)) / kW;
+      const auto lifts = events_of(r, ContactEventKind::lift_off);
+      BOOST_REQUIRE(!lifts.empty());
+      BOOST_TEST(std::abs(lifts[0].t - ts) < 1e-10, "lift-off at " << lifts[0].t << ", exact " << ts);
+      BOOST_TEST(std::abs(lifts[0].normal) < 1e-8);  // the normal force had reached 0
+      // The flight: a parabola from (z(ts), z'(ts)); the landing where it meets the table.
+      const double ys = kA * std::sin(kW * ts), vs = kA * kW * std::cos(kW * ts);
+      auto gap = [&](double t) {
+        const double s = t - ts;
+        return ys + vs * s - 0.5 * kG * s * s - kA * std::sin(kW * t);
+      };
+      double lo = ts + 1e-4, hi = lo;
+      while (gap(hi) > 0.0) hi += 1e-4;
+      for (int it = 0; it < 200 && hi - lo > 1e-16; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (gap(mid) > 0.0 ? lo : hi) = mid;
+      }
+      const double t_land = hi;
+      const double v_rel = (vs - kG * (t_land - ts)) - kA * kW * std::cos(kW * t_land);
+      const auto impacts = events_of(r, ContactEventKind::impact);
+      BOOST_REQUIRE(!impacts.empty());
+      BOOST_TEST(std::abs(impacts[0].t - t_land) < 1e-10, "landing at " << impacts[0].t << ", exact " << t_land);
+      BOOST_TEST(std::abs(impacts[0].vn_before - v_rel) < 1e-9);
+      BOOST_TEST(impacts[0].vn_after == 0.0);  // e_n = 0: plastic
+      // The highest gap of the flight: the maximum of gap(t) over the flight.
+      double top = 0.0;
+      for (int k = 0; k <= 20000; ++k) top = std::max(top, gap(ts + (t_land - ts) * k / 20000.0));
+      BOOST_TEST(std::abs(r.contacts[0].flights.at(0).max_gap - top) < 1e-9);
+      BOOST_TEST_MESSAGE(to_string(method) << ": lift-off " << lifts[0].t << " s, landing " << impacts[0].t
+                                           << " s at " << -impacts[0].vn_before << " m/s, flight height "
+                                           << r.contacts[0].flights.at(0).max_gap << " m; "
+                                           << r.events.size() << " events in " << T << " s");
+    }
+  }
+}
+
+// Below the lift-off threshold (A omega^2 < g) the ball rides the table: no event at all, and
+// the normal force is m (g - A omega^2 sin(omega t)) throughout.
+BOOST_AUTO_TEST_CASE(below_the_threshold_the_ball_rides_the_table) {
+  const double A = 0.0005;  // A omega^2 = 5 < g
+  auto m = contact_model("table_ball", {{"A", A}, {"omega", kW}});
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  Trace tr;
+  const auto r = run(*m, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, A * kW), 0.3, o, {}, &tr);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  BOOST_TEST(r.events.empty());
+  for (std::size_t i = 0; i < tr.t.size(); ++i)
+    BOOST_TEST(std::abs(tr.R[i][0] - 0.1 * (kG - A * kW * kW * std::sin(kW * tr.t[i]))) < 1e-8);
+}
