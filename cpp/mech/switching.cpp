@@ -1330,6 +1330,7 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
       count_event(res, ev, w0);
     }
     cfg = decided;
+    res.initial_modes = cfg.modes;
     std::vector<std::string> imposed;
     for (int i : eng.layout(cfg).imposed) imposed.push_back(model.constraints()[i].name);
     const CheckResult ci = check_model(model, imposed, options.t0, q, qd, options.kernel);

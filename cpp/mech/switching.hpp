@@ -100,6 +100,7 @@ struct SwitchingOptions {
 
 struct SwitchingResult : SimulationResult {
   std::vector<ContactStats> contacts;  ///< one per active unilateral constraint, in model order
+  std::vector<ContactMode> initial_modes;  ///< the modes decided at t0 (no events are recorded)
   std::vector<ContactEvent> events;
   long segments = 0;      ///< integrations between events
   long lcp_solves = 0;    ///< mode decisions solved by Siconos

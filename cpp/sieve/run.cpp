@@ -14,6 +14,7 @@
 #include "sieve/model.hpp"
 #include "sieve/settings.hpp"
 #include "sim/extremes.hpp"
+#include "sim/switching_summary.hpp"
 
 namespace pcsim::sieve {
 
@@ -46,7 +47,8 @@ struct Verdict {
 
 class SieveMonitor final : public sim::ClientMonitor {
  public:
-  SieveMonitor(SieveSettings set, double w0, double w1) : set_(std::move(set)), w0_(w0), w1_(w1) {
+  SieveMonitor(SieveSettings set, double w0, double w1, bool switching, double e_n)
+      : set_(std::move(set)), w0_(w0), w1_(w1), switching_(switching), e_n_(e_n) {
     contact_.active = set_.constraints.contact;
     rolling_.active = set_.constraints.contact && set_.constraints.rolling;
   }
@@ -162,6 +164,7 @@ class SieveMonitor final : public sim::ClientMonitor {
     as["solver.t_end"] = set_.solver.t_end;
     as["initial_state"] = "q = (0, 0, 0, s0, u0, 0), q_d = 0 unless [initial] sets them";
     as["constraints"] = active;
+    if (switching_) as["parameters.e_n"] = e_n_;  // the landing's restitution (issue 12)
     j["assumptions"] = as;
     j["rolling_condition"] = set_.constraints.rolling_as_printed
                                  ? "s - r phi = const (as printed in (3.2); not physical rolling)"
@@ -174,7 +177,12 @@ class SieveMonitor final : public sim::ClientMonitor {
   }
 
   bool contact_violated(const mech::Sample& s) const { return !(s.R(4) > 0); }
-  bool rolling_violated(const mech::Sample& s) const { return !(s.derived(0) < set_.p.f); }
+  bool rolling_violated(const mech::Sample& s) const {
+    // With switching, a roller in flight has no contact force at all (f* = 0/0): nothing rolls
+    // or slips there; its rolling verdict fails only when it slides (f* = f).
+    if (switching_ && s.R(4) == 0.0 && s.R(3) == 0.0) return false;
+    return !(s.derived(0) < set_.p.f);
+  }
 
   // Locates the first violation in (a, b] where a is fine and b violates.
   template <class Pred>
@@ -228,6 +236,8 @@ class SieveMonitor final : public sim::ClientMonitor {
 
   SieveSettings set_;
   double w0_, w1_;
+  bool switching_ = false;  // contact.switching (issue 12)
+  double e_n_ = 0.0;
   RunningMax maxima_[sig_count], minima_[sig_count];  // minima hold the negated signal
   double theta_integral_ = 0.0;  // ∫ θ dt over the window (Gauss-Legendre per step)
   double theta_abs_max_run_ = 0.0;
@@ -313,6 +323,11 @@ class SieveClient final : public sim::Client {
                                 " m (u0 is the roller centre's height over the desk's mass "
                                 "centre: the deck surface u0 - r is not below it)",
            t["parameters"].as_table()->get("u0"));
+    if (t["contact"]["switching"].value_or(false) && *con["rolling"].value<bool>() &&
+        *con["rolling_as_printed"].value<bool>())
+      throw InputError(where + ": key 'constraints.rolling_as_printed': expected false with "
+                       "contact.switching = true (the printed sign s - r phi is not a contact "
+                       "point's sliding velocity, so it cannot be a friction constraint), got true");
     if (*con["lock_theta"].value<bool>()) {
       if (!near(initial("theta", 0), 0))
         fail("initial.theta", "0 (constraints.lock_theta = true imposes theta = 0)", ini.get("theta"));
@@ -342,7 +357,8 @@ class SieveClient final : public sim::Client {
     } else {
       w0 = s.window.time < s.t_end ? s.t_end - s.window.time : 0.0;
     }
-    return std::make_unique<SieveMonitor>(set, w0, s.t_end);
+    return std::make_unique<SieveMonitor>(set, w0, s.t_end, s.contact.switching,
+                                          c.table["parameters"]["e_n"].value_or(0.0));
   }
 
   std::string report(const sim::Case& c, const nlohmann::json& s) const override;
@@ -409,6 +425,10 @@ std::string SieveClient::report(const sim::Case& c, const nlohmann::json& s) con
      << verdict("rolling_kept", "rolling") << "\n";
   os << "  closer to violation: " << s["margins"]["closer_to_violation"].get<std::string>()
      << "\n";
+  if (s.contains("switching"))
+    os << "  (with contact.switching the verdicts say whether the roller ever left the deck or "
+          "slipped; what it did instead:)\n"
+       << sim::switching_report(s);
   const auto& st = s["stats"];
   os << "  solver: " << st["steps"] << " steps (" << st["accepted"] << " accepted, "
      << st["rejected"] << " rejected), " << st["f_evals"] << " f-evaluations, " << st["jacobians"]

@@ -70,12 +70,15 @@ class SieveSource final : public sim::ModelSource {
         par("b", d.b, "m", "vertical spring/damper eta"),
         par("u0", d.u0, "m", "roller centre height over C"),
         par("f", d.f, "", "friction coefficient roller/deck", pos, true),
+        // Issue 12: the restitution of a landing when contacts switch (contact.switching).
+        par("e_n", 0.0, "", "Newton's restitution roller/deck (with contact.switching)", pos),
     };
+    parameters_.back().max = 1.0;
     for (const char* c : kCoordinateNames) coordinates_.push_back(c);
-    constraints_ = {{"contact", mech::ConstraintKind::holonomic, true, "(3.1) u = u0"},
+    constraints_ = {{"contact", mech::ConstraintKind::holonomic, true, "(3.1) u = u0", true, ""},
                     {"rolling", mech::ConstraintKind::holonomic, true,
-                     "(3.2) rolling without slip, s + r phi = const (erratum 7)"},
-                    {"lock_theta", mech::ConstraintKind::holonomic, false, "theta = 0"}};
+                     "(3.2) rolling without slip, s + r phi = const (erratum 7)", false, "contact"},
+                    {"lock_theta", mech::ConstraintKind::holonomic, false, "theta = 0", false, ""}};
     outputs_ = {"fstar"};
   }
   const std::string& name() const override { return name_; }

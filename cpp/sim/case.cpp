@@ -24,7 +24,7 @@ namespace {
 
 constexpr const char* kFormatHelp = "the case format: README, \"Case files\"";
 const std::vector<std::string> kSections = {"parameters", "initial", "constraints", "solver",
-                                            "output"};
+                                            "output", "contact"};
 
 std::string where(const fs::path& file) { return file.empty() ? std::string("<case>") : file.string(); }
 
@@ -196,6 +196,38 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   keys.push_back(number_key("output", "summary_time",
                             "length of the summary window, s (from t_end back)", std::nullopt, 0.0,
                             true));
+  // [contact] (issue 12): switching the unilateral constraints.
+  KeySpec sw;
+  sw.section = "contact";
+  sw.name = "switching";
+  sw.type = Type::boolean;
+  sw.meaning = "switch the unilateral constraints: lift-off, flight, impact, slip and sticking "
+               "again (docs/switching.md); false keeps every constraint imposed, as the paper does";
+  sw.bool_default = false;
+  keys.push_back(sw);
+  keys.push_back(number_key("contact", "zeno_time",
+                            "s; an impact whose rebound would fly shorter than this closes the "
+                            "contact (accumulation of impacts)",
+                            1e-6, 0.0, true));
+  keys.push_back(number_key("contact", "flight_hmax",
+                            "s; the largest step while a contact flies or slides (default: a "
+                            "16th of the excitation period, or none)",
+                            std::nullopt, 0.0, true));
+  KeySpec me;
+  me.section = "contact";
+  me.name = "max_events";
+  me.type = Type::integer;
+  me.meaning = "the most switching events a run may have before it fails";
+  me.min = 1;
+  me.max = kMaxSteps;
+  keys.push_back(me);
+  KeySpec ls = kernel;
+  ls.section = "contact";
+  ls.name = "lcp_solver";
+  ls.meaning = "the Siconos LCP solver for several contacts switching at once";
+  ls.choices = {"lemke", "enumerative"};
+  ls.string_default = "lemke";
+  keys.push_back(ls);
   if (client)
     for (auto& e : client->extra_keys()) keys.push_back(std::move(e));
   return keys;
@@ -423,7 +455,7 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
     } else if (!find(r.keys, key) || !find(r.keys, key)->section.empty()) {
       fail(file, key,
            "a known key: model, name, or one of the tables [parameters] [initial] "
-           "[constraints] [solver] [output]");
+           "[constraints] [solver] [output] [contact]");
     }
   }
   for (const auto& s : kSections)
@@ -443,6 +475,26 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
     fail(file, "solver.method", "\"radau\" or \"auto\" with solver.form = \"dae\" (the DAE form "
                                 "has a singular mass matrix, which only Radau integrates)",
          "\"explicit\"");
+  if (t["contact"]["switching"].value_or(false)) {
+    if (t["solver"]["form"].value_or(std::string()) == "dae")
+      fail(file, "solver.form", "\"ode\" with contact.switching = true (the switching simulation "
+                                "integrates the ODE form)", "\"dae\"");
+    std::string offered;
+    bool any = false;
+    for (const auto& con : r.model->constraints()) {
+      if (!con.unilateral) continue;
+      offered += (offered.empty() ? "" : ", ") + con.name;
+      any = any || t["constraints"][con.name].value_or(con.active_by_default);
+    }
+    if (!any)
+      fail(file, "contact.switching",
+           "an active unilateral constraint to switch (" +
+               (offered.empty() ? "the " + r.model->origin() + " declares none: unilateral = true "
+                                  "in its model file"
+                                : "the " + r.model->origin() + " declares " + offered +
+                                      "; activate one in [constraints]") + ")",
+           "true");
+  }
   if (t["output"]["summary_periods"] && t["output"]["summary_time"])
     fail(file, "output.summary_time",
          "either output.summary_periods or output.summary_time, not both (the summary window)");
@@ -626,6 +678,14 @@ Setup setup_of(const Case& c) {
   } else {
     s.window.time = s.t_end;  // no excitation period: the whole run
   }
+  s.contact.switching = t["contact"]["switching"].value_or(false);
+  s.contact.zeno_time = t["contact"]["zeno_time"].value_or(1e-6);
+  s.contact.max_events = static_cast<long>(t["contact"]["max_events"].value_or(int64_t{1000000}));
+  s.contact.lcp_solver = t["contact"]["lcp_solver"].value_or(std::string("lemke"));
+  if (auto h = t["contact"]["flight_hmax"].value<double>())
+    s.contact.flight_hmax = *h;
+  else if (std::isfinite(s.period))
+    s.contact.flight_hmax = s.period / 16.0;
   if (c.client) c.client->adjust(t, s);
   return s;
 }

@@ -111,6 +111,14 @@ struct Setup {
   double dt = 1e-3;                     ///< time-series interval
   WindowSpec window;
   double period = std::numeric_limits<double>::quiet_NaN();  ///< excitation period, NaN if none
+  /// [contact] (issue 12): switch the unilateral constraints (lift-off, impact, slip, stick).
+  struct Contact {
+    bool switching = false;
+    double zeno_time = 1e-6;      ///< s, the accumulation rule (mech/switching.hpp)
+    double flight_hmax = 0.0;     ///< s, largest step in flight or slip (0: none)
+    long max_events = 1000000;
+    std::string lcp_solver = "lemke";
+  } contact;
 };
 
 /// Reads the setup out of a validated case (the client may adjust it, e.g. the sieve's s0).

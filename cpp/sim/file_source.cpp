@@ -44,7 +44,7 @@ class FileModelSource final : public ModelSource {
       parameters_.push_back(s);
     }
     for (const auto& c : d_->constraints())
-      constraints_.push_back({c.name, c.kind, c.active_by_default, ""});
+      constraints_.push_back({c.name, c.kind, c.active_by_default, "", c.unilateral, c.friction});
     for (const auto& o : d_->outputs()) outputs_.push_back(o.name);
   }
 

@@ -40,6 +40,8 @@ struct ConstraintOffer {
   mech::ConstraintKind kind = mech::ConstraintKind::holonomic;
   bool active_by_default = true;
   std::string meaning;
+  bool unilateral = false;   ///< a unilateral contact (issue 12: switched by contact.switching)
+  std::string friction_of;   ///< a friction constraint: the unilateral constraint it acts at
 };
 
 /// A holonomic constraint added by a case ([constraints.added] NAME = "expression").

@@ -2,6 +2,7 @@
 // column), the summary, the output directory, and the generic report.
 #include "sim/run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,8 @@
 #include "common/files.hpp"
 #include "common/format.hpp"
 #include "mech/simulation.hpp"
+#include "mech/switching.hpp"
+#include "sim/switching_summary.hpp"
 #include "sim/client.hpp"
 #include "sim/extremes.hpp"
 
@@ -122,9 +125,21 @@ class Monitor {
     append_number(out, s.residual_pos);
     out += ',';
     append_number(out, s.residual_vel);
+    if (modes_) {
+      for (mech::ContactMode m : *modes_) {
+        out += ',';
+        out += mech::to_string(m);
+      }
+    }
     out += '\n';
     csv_->maybe_flush();
   }
+
+ public:
+  /// With switching: the contacts' modes during the step being observed (mode columns).
+  const std::vector<mech::ContactMode>* modes_ = nullptr;
+
+ private:
 
   int n_, n_out_;
   double w0_, w1_, dt_, t_end_;
@@ -150,7 +165,18 @@ std::vector<std::string> timeseries_columns(const Case& c) {
   for (const auto& o : m.outputs()) cols.push_back(o);
   cols.push_back("residual_pos");
   cols.push_back("residual_vel");
+  for (const auto& u : switched_contacts(c)) cols.push_back("mode_" + u);
   return cols;
+}
+
+std::vector<std::string> switched_contacts(const Case& c) {
+  std::vector<std::string> out;
+  if (!c.table["contact"]["switching"].value_or(false)) return out;
+  const Setup s = setup_of(c);
+  for (const auto& con : c.model->constraints())
+    if (con.unilateral && std::find(s.active.begin(), s.active.end(), con.name) != s.active.end())
+      out.push_back(con.name);
+  return out;
 }
 
 nlohmann::json run_case(const Case& c, const RunOptions& options) {
@@ -212,14 +238,37 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
 
   bool stopped_by_client = false;
   const auto t_start = std::chrono::steady_clock::now();
-  const mech::SimulationResult res = mech::simulate(
-      *model, set.q0, set.qd0, so, [&](const mech::StepView& v) {
-        if (client_mon && !client_mon->observe(v)) {
-          stopped_by_client = true;
-          return false;
-        }
-        return mon.observe(v);
-      });
+  mech::SwitchingResult sres;
+  if (set.contact.switching) {
+    // Issue 12: the contacts switch at their events (mech/switching.hpp).
+    mech::SwitchingOptions sw;
+    sw.zeno_time = set.contact.zeno_time;
+    sw.flight_hmax = set.contact.flight_hmax;
+    sw.window_start = w0;
+    sw.max_events = set.contact.max_events;
+    sw.lcp_solver = set.contact.lcp_solver == "enumerative" ? lcp::LcpSolver::enumerative
+                                                             : lcp::LcpSolver::lemke;
+    sres = mech::simulate_switching(
+        *model, set.q0, set.qd0, so, sw,
+        [&](const mech::StepView& v, const std::vector<mech::ContactMode>& modes) {
+          if (client_mon && !client_mon->observe(v)) {
+            stopped_by_client = true;
+            return false;
+          }
+          mon.modes_ = &modes;
+          return mon.observe(v);
+        });
+  } else {
+    static_cast<mech::SimulationResult&>(sres) = mech::simulate(
+        *model, set.q0, set.qd0, so, [&](const mech::StepView& v) {
+          if (client_mon && !client_mon->observe(v)) {
+            stopped_by_client = true;
+            return false;
+          }
+          return mon.observe(v);
+        });
+  }
+  const mech::SimulationResult& res = sres;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if ((res.status == mech::SimulationStatus::invalid_model &&
        res.issue != mech::ModelIssue::non_finite) ||
@@ -236,7 +285,8 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   }
 
   const auto cols = timeseries_columns(c);
-  const std::vector<std::string> value_cols(cols.begin() + 1, cols.end() - 2);
+  const std::size_t n_modes = switched_contacts(c).size();
+  const std::vector<std::string> value_cols(cols.begin() + 1, cols.end() - 2 - n_modes);
   const auto ext = mon.extremes(value_cols);
 
   nlohmann::json j;
@@ -289,6 +339,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   j["initial_correction"] = {{"position", res.initial_correction_pos},
                              {"velocity", res.initial_correction_vel}};
   j["complete"] = complete;
+  if (set.contact.switching) j["switching"] = switching_summary(sres, set);
   if (client_mon) client_mon->finish(res, ext, j);
   if (!complete) {
     // The model's client ended the run: what was computed up to then is written, marked as
@@ -299,6 +350,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
 
   if (out) {
     csv.close();
+    if (set.contact.switching) out->write("events.csv", events_csv(sres));
     out->write("summary.json", j.dump(2) + "\n");
     out->commit();
   }
@@ -335,7 +387,7 @@ std::string human_report(const Case& c, const nlohmann::json& s) {
   os << buf;
   os << "  over the window:         min           max     amplitude\n";
   const auto cols = timeseries_columns(c);
-  for (std::size_t k = 1; k + 2 < cols.size(); ++k) {
+  for (std::size_t k = 1; k + 2 + switched_contacts(c).size() < cols.size(); ++k) {
     const std::string& name = cols[k];
     if (!s["extremes"].contains(name)) continue;
     const auto& e = s["extremes"][name];
@@ -346,6 +398,7 @@ std::string human_report(const Case& c, const nlohmann::json& s) {
                   num(e["max"]).c_str(), num(e["amplitude"]).c_str());
     os << buf;
   }
+  os << switching_report(s);
   const auto& st = s["stats"];
   os << "  solver: " << st["steps"] << " steps (" << st["accepted"] << " accepted, "
      << st["rejected"] << " rejected), " << st["f_evals"] << " f-evaluations; "

@@ -38,7 +38,11 @@ nlohmann::json run_case(const Case& c, const RunOptions& options = {});
 std::string human_report(const Case& c, const nlohmann::json& summary);
 
 /// The time-series column names of a case: t, coordinates, <name>_d, R_<name>, outputs,
-/// residual_pos, residual_vel.
+/// residual_pos, residual_vel, and with contact.switching mode_<name> per switched contact.
 std::vector<std::string> timeseries_columns(const Case& c);
+
+/// The unilateral constraints a case switches (contact.switching = true and active), in model
+/// order; empty without switching.
+std::vector<std::string> switched_contacts(const Case& c);
 
 }  // namespace pcsim::sim

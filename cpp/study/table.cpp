@@ -38,7 +38,8 @@ std::vector<std::string> summary_columns(const sim::Case& c) {
   if (c.client) cols = c.client->sweep_columns();
   if (cols.empty()) {
     const auto ts = sim::timeseries_columns(c);
-    for (std::size_t i = 1; i + 2 < ts.size(); ++i)
+    const std::size_t modes = sim::switched_contacts(c).size();
+    for (std::size_t i = 1; i + 2 + modes < ts.size(); ++i)
       for (const char* part : {"min", "max", "amplitude"})
         cols.push_back("extremes." + ts[i] + "." + part);
     for (const auto& q : c.model->coordinates()) cols.push_back("q_end." + q);
@@ -47,6 +48,11 @@ std::vector<std::string> summary_columns(const sim::Case& c) {
     for (const char* st : {"steps", "accepted", "rejected", "f_evals", "jacobians", "lu_decompositions"})
       cols.push_back(std::string("stats.") + st);
   }
+  // Switching (issue 12): per switched contact, what it did over the summary window.
+  for (const auto& u : sim::switched_contacts(c))
+    for (const char* k : {"contact_fraction", "lift_offs", "impacts", "max_flight_height",
+                          "max_impact_velocity", "slip_distance", "energy_impacts", "energy_friction"})
+      cols.push_back("switching.contacts." + u + ".window." + k);
   cols.push_back("window_clipped");
   return cols;
 }
