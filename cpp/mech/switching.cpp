@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "common/format.hpp"
+#include <Eigen/Eigenvalues>
+
 #include "linalg/huang.hpp"
 #include "mech/dynamics.hpp"
 #include "mech/projection.hpp"
@@ -67,6 +69,10 @@ struct ContactDef {
 struct Config {
   std::vector<ContactMode> modes;
   std::vector<int> sigma;
+  /// Per contact (or empty): its friction row sticks but depends on the other imposed rows
+  /// (a block resting on two corners with friction has four rows on three coordinates), so it
+  /// is implied, not imposed; its friction force is then carried by the others (reported 0).
+  std::vector<char> implied;
 };
 
 /// The active set of a configuration: the constraints imposed (case order: bilateral ones,
@@ -135,6 +141,7 @@ class Engine {
       } else if (ci.is_friction()) {
         c = contact_of_friction(i);
         if (c < 0 || cfg.modes[c] != ContactMode::stick) continue;
+        if (!cfg.implied.empty() && cfg.implied[c]) continue;
         L.friction_pos[c] = static_cast<int>(rows.size());
       }
       rows.push_back(i);
@@ -179,7 +186,8 @@ class Engine {
     for (int c = 0; c < nc(); ++c) {
       if (L.normal_pos[c] < 0) continue;
       out.lambda_n[c] = contacts_[c].sign * out.lambda[L.normal_pos[c]];
-      if (cfg.modes[c] == ContactMode::stick) out.lambda_t[c] = out.lambda[L.friction_pos[c]];
+      if (cfg.modes[c] == ContactMode::stick && L.friction_pos[c] >= 0)
+        out.lambda_t[c] = out.lambda[L.friction_pos[c]];
       if (cfg.modes[c] == ContactMode::slip)
         out.lambda_t[c] = -contacts_[c].mu_k * cfg.sigma[c] * out.lambda_n[c];
     }
@@ -421,18 +429,134 @@ class Engine {
     assemble(p);
     const bool single = p.cands.size() == 1 && sw_.lcp == SwitchingOptions::Lcp::several_contacts;
     if (single && solve_single(p, z)) return true;
+    // The LCP is linear in b: it is solved for b / max|b| (solutions of order one, so the
+    // solver's absolute tolerance is a relative one) and scaled back; b = 0 has z = 0.
+    const double scale = p.b.cwiseAbs().maxCoeff();
+    if (!(scale > 0.0)) {
+      z = Eigen::VectorXd::Zero(p.b.size());
+      return true;
+    }
+    // Several contacts can pose redundant conditions (a block resting on two corners with
+    // friction: four rows on three coordinates), and then W = J P Jᵀ is singular and the forces
+    // are not unique. Then (only then) W is regularized by 1e-10 of its largest diagonal entry,
+    // which selects the solution of least norm (the limit of a very stiff contact, and the
+    // distribution the compatibility method's ideality gives bilateral constraints).
+    Problem reg = p;
+    {
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (p.W + p.W.transpose()),
+                                                              Eigen::EigenvaluesOnly);
+      const double top = es.eigenvalues().cwiseAbs().maxCoeff();
+      if (!(es.eigenvalues().minCoeff() > 1e-9 * top)) {
+        reg.W.diagonal().array() += 1e-10 * p.W.diagonal().cwiseAbs().maxCoeff();
+        assemble(reg);
+      }
+    }
     lcp::LcpOptions lo;
     lo.solver = sw_.lcp_solver;
     ++lcp_solves_;
-    const lcp::LcpResult r = lcp::solve_lcp(p.A, p.b, lo);
+    lcp::LcpResult r = lcp::solve_lcp(reg.A, reg.b / scale, lo);
+    if (r.status == lcp::LcpStatus::no_solution && lo.solver == lcp::LcpSolver::lemke) {
+      // Lemke's method can end on a ray in degenerate problems (contacts at rest, redundant
+      // rows: b with exact zeros, W singular); enumeration of the bases then decides.
+      lo.solver = lcp::LcpSolver::enumerative;
+      r = lcp::solve_lcp(reg.A, reg.b / scale, lo);
+    }
     if (r.status != lcp::LcpStatus::solved) {
       message_ = std::string(p.impulse ? "the impact" : "the contact modes") + " at t = " + num(t) +
                  " (contacts " + names(p) + "): " + r.message;
       lcp_failed_ = r.status == lcp::LcpStatus::library_unavailable;
       return false;
     }
-    z = r.z;
+    z = r.z * scale;
+    polish(p, z);
     return true;
+  }
+
+  /// The LCP decides which contacts are closed, sticking or sliding; the values then come
+  /// from the equations of that set, solved exactly (least norm where contacts are redundant):
+  /// closed normals w_n = 0, sticking tangents v_t = 0, sliding ones Λt = −σ μ Λn, open ones
+  /// Λ = 0. This removes the regularization's 1e-10 from unique solutions. Kept only if the
+  /// result is still complementary (to 1e-9 of the problem's scale).
+  void polish(const Problem& p, Eigen::VectorXd& z) const {
+    const int nz = static_cast<int>(z.size());
+    const double zs = 1.0 + z.cwiseAbs().maxCoeff();
+    const double tol = 1e-9 * zs;
+    // Unknowns: Λ_J (one per row of J); equations built row by row.
+    const int nj = static_cast<int>(p.W.rows());
+    std::vector<Eigen::RowVectorXd> rows;
+    std::vector<double> rhs;
+    auto unit = [nj](int k) {
+      Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(nj);
+      r[k] = 1.0;
+      return r;
+    };
+    for (const Cand& k : p.cands) {
+      const bool closed = z[k.zn] > tol;
+      const double bn = (p.impulse ? 1.0 + k.e : 1.0) * p.f[k.kn];
+      if (!closed) {
+        rows.push_back(unit(k.kn));
+        rhs.push_back(0.0);
+        if (k.kt >= 0) {
+          rows.push_back(unit(k.kt));
+          rhs.push_back(0.0);
+        }
+        continue;
+      }
+      if (k.frictional) {
+        const double bp = z[k.zn + 1], bm = z[k.zn + 2], zeta = z[k.zn + 3];
+        rows.push_back(p.W.row(k.kn));  // w_n = 0: (W Λ)_n = −b_n
+        rhs.push_back(-bn);
+        if (zeta <= tol) {
+          rows.push_back(p.W.row(k.kt));  // sticks: (W Λ)_t = −f_t
+          rhs.push_back(-p.f[k.kt]);
+        } else {
+          const double sigma = bm > bp ? 1.0 : -1.0;  // slides: Λt = −σ μ Λn
+          Eigen::RowVectorXd r = unit(k.kt);
+          r[k.kn] = sigma * k.mu;
+          rows.push_back(r);
+          rhs.push_back(0.0);
+        }
+      } else {
+        // Λ_J = E z: the normal row of the variable, and a sliding contact's tangent row
+        // −μσ times it; the normal equation on the combined column.
+        Eigen::RowVectorXd r = p.W.row(k.kn);
+        if (k.sigma != 0) {
+          rows.push_back(r);
+          rhs.push_back(-bn);
+          Eigen::RowVectorXd c = unit(k.kt);
+          c[k.kn] = k.mu * k.sigma;
+          rows.push_back(c);
+          rhs.push_back(0.0);
+        } else {
+          rows.push_back(r);
+          rhs.push_back(-bn);
+        }
+      }
+    }
+    const int m = static_cast<int>(rows.size());
+    Eigen::MatrixXd A(m, nj);
+    Eigen::VectorXd b(m);
+    for (int i = 0; i < m; ++i) {
+      A.row(i) = rows[i];
+      b[i] = rhs[i];
+    }
+    const Eigen::VectorXd lam = A.completeOrthogonalDecomposition().solve(b);
+    if (!lam.allFinite() || (A * lam - b).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + b.cwiseAbs().maxCoeff())) return;
+    // Back to the LCP's variables.
+    Eigen::VectorXd zp = Eigen::VectorXd::Zero(nz);
+    const Eigen::VectorXd vrel = p.f + p.W * lam;
+    for (const Cand& k : p.cands) {
+      zp[k.zn] = lam[k.kn];
+      if (k.frictional) {
+        zp[k.zn + 1] = std::max(lam[k.kt], 0.0);
+        zp[k.zn + 2] = std::max(-lam[k.kt], 0.0);
+        zp[k.zn + 3] = z[k.zn + 3] <= tol ? 0.0 : std::abs(vrel[k.kt]);
+      }
+    }
+    const Eigen::VectorXd w = p.A * zp + p.b;
+    for (int i = 0; i < nz; ++i)
+      if (zp[i] < -tol || w[i] < -tol * (1.0 + p.b.cwiseAbs().maxCoeff()) / zs) return;
+    z = zp;
   }
 
   std::string names(const Problem& p) const {
@@ -506,22 +630,45 @@ class Engine {
     if (!solve_problem(p, t, z)) return false;
     Eigen::VectorXd Lam = p.E * z;
     Eigen::VectorXd v_after = v_before + p.W * Lam;
-    // Accumulation: a rebound that would fly less than zeno_time is not flown.
-    std::vector<char> zeno(nc(), 0);
-    bool any_zeno = false;
+    // Accumulation: a contact that leaves the surface after the impact (a rebound, or a corner
+    // lifted by an impact elsewhere) and would land again within zeno_time (2 v_n / |a_n|,
+    // a_n with every contact open) starts a sequence of impacts that accumulates. Its limit
+    // is taken at once: every touching contact closed, by the impulse of least kinetic energy
+    // that brings their normal velocities to zero (Λ_n = −W_nn⁺ v_n⁻, the P-weighted
+    // projection; friction is decided at acceleration level right after).
+    bool accumulate = false;
     for (const Cand& k : p.cands) {
-      if (!(v_before[k.kn] < -vtol) || !(v_after[k.kn] > vtol) || contacts_[k.c].e == 0.0) continue;
+      if (!(v_after[k.kn] > vtol)) continue;
       const double an = J.row(k.kn).dot(aB) + jg[k.kn];
-      if (an < 0.0 && 2.0 * v_after[k.kn] / -an < sw_.zeno_time) {
-        zeno[k.c] = 1;
-        any_zeno = true;
-      }
+      if (an < 0.0 && 2.0 * v_after[k.kn] / -an < sw_.zeno_time) accumulate = true;
     }
-    if (any_zeno) {
-      for (Cand& k : p.cands)
-        if (zeno[k.c]) k.e = 0.0;
-      if (!solve_problem(p, t, z)) return false;
-      Lam = p.E * z;
+    if (accumulate) {
+      // First with the sliding velocities of the frictional contacts brought to zero as well
+      // (the accumulating impacts end at rest), if the tangential impulses that takes stay in
+      // Coulomb's cone (|Λ_t| <= μ_k |Λ_n|); otherwise normals only (a sliding body keeps
+      // sliding after its bounces have accumulated).
+      for (int with_t = 1; with_t >= 0; --with_t) {
+        std::vector<int> rows;
+        for (const Cand& k : p.cands) {
+          rows.push_back(k.kn);
+          if (with_t && k.frictional) rows.push_back(k.kt);
+        }
+        const int m = static_cast<int>(rows.size());
+        Eigen::MatrixXd Wr(m, m);
+        Eigen::VectorXd vr(m);
+        for (int a = 0; a < m; ++a) {
+          vr[a] = v_before[rows[a]];
+          for (int b = 0; b < m; ++b) Wr(a, b) = p.W(rows[a], rows[b]);
+        }
+        const Eigen::VectorXd l = -Wr.completeOrthogonalDecomposition().solve(vr);
+        Lam.setZero();
+        for (int a = 0; a < m; ++a) Lam[rows[a]] = l[a];
+        bool in_cone = true;
+        for (const Cand& k : p.cands)
+          if (with_t && k.frictional)
+            in_cone = in_cone && std::abs(Lam[k.kt]) <= contacts_[k.c].mu_k * std::abs(Lam[k.kn]) * (1 + 1e-9);
+        if (in_cone) break;
+      }
       v_after = v_before + p.W * Lam;
     }
     const Eigen::VectorXd dqd = P * (J.transpose() * Lam);
@@ -531,13 +678,17 @@ class Engine {
       const double vtb = k.kt >= 0 ? v_before[k.kt] : 0.0, vta = k.kt >= 0 ? v_after[k.kt] : 0.0;
       const double lost = -0.5 * (ln * (va + vb) + lt * (vta + vtb));
       if (!(vb < -vtol)) {
-        // A closed contact that took part: its share of the loss is booked with the impact.
+        // A closed contact that took part: its share of the loss is booked with the impact,
+        // its impulse reported with its own switch (a lift-off), if any.
         if (ln != 0.0 || lt != 0.0) pending_loss_[k.c] += lost;
+        impulsed_[k.c] = 1;
+        impulse_n_[k.c] = ln;
+        impulse_t_[k.c] = lt;
         continue;
       }
       ContactEvent ev;
       ev.t = t;
-      ev.kind = zeno[k.c] ? ContactEventKind::accumulation : ContactEventKind::impact;
+      ev.kind = accumulate ? ContactEventKind::accumulation : ContactEventKind::impact;
       ev.contact = k.c;
       ev.constraint = contacts_[k.c].name;
       ev.mode_before = before.modes[k.c];
@@ -619,6 +770,44 @@ class Engine {
     return true;
   }
 
+  /// Marks the sticking friction rows that depend on the other imposed rows at this state as
+  /// implied (Huang's rank test, friction rows last). Fails if a normal or bilateral row is
+  /// itself redundant (contacts that pose the same condition twice).
+  bool mark_implied(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Config& cfg) {
+    cfg.implied.assign(nc(), 0);
+    const Layout L = layout(cfg);
+    if (L.imposed.empty()) return true;
+    std::vector<int> order;
+    for (int i : L.imposed)
+      if (!model_.constraints()[i].contact.is_friction()) order.push_back(i);
+    const int n_plain = static_cast<int>(order.size());
+    for (int i : L.imposed)
+      if (model_.constraints()[i].contact.is_friction()) order.push_back(i);
+    const int s = static_cast<int>(order.size());
+    Eigen::MatrixXd g(s, n_);
+    Eigen::VectorXd g0(s), gamma(s);
+    model_.constraint_rows(order, t, q, qd, g, g0, gamma);
+    HuangOptions ho;
+    ho.kernel = opt_.kernel;
+    const HuangResult hr = huang_solve(g, Eigen::VectorXd::Zero(s), ho);
+    if (hr.info < 0) {
+      message_ = "the Huang kernel rejected the contact rows at t = " + num(t);
+      return false;
+    }
+    if (hr.rank == s) return true;
+    for (int r = 0; r < s && r < static_cast<int>(hr.row_dependent.size()); ++r) {
+      if (!hr.row_dependent[r]) continue;
+      if (r < n_plain) {
+        message_ = "the constraint '" + model_.constraints()[order[r]].name +
+                   "' depends on the other closed contacts at t = " + num(t) +
+                   " (redundant unilateral contacts are not supported)";
+        return false;
+      }
+      cfg.implied[contact_of_friction(order[r])] = 1;
+    }
+    return true;
+  }
+
   /// Checks a configuration at a state: closed contacts push (λ_n > 0), sticking ones inside
   /// the cone, sliding ones accelerate along their direction when they start from rest. At a
   /// rounding-level tie the first offending contact is switched (closed -> open, stick ->
@@ -653,6 +842,9 @@ class Engine {
                   const Solved* reactions_before, Config& after, std::vector<ContactEvent>& events,
                   bool initial) {
     std::vector<char> hit(nc(), 0);
+    impulsed_.assign(nc(), 0);
+    impulse_n_.assign(nc(), 0.0);
+    impulse_t_.assign(nc(), 0.0);
     const Eigen::VectorXd qd_before = qd;
     std::vector<double> vn_b(nc()), vt_b(nc());
     for (int c = 0; c < nc(); ++c) {
@@ -664,7 +856,11 @@ class Engine {
     for (int attempt = 0;; ++attempt) {
       if (!decide(t, q, qd, before, after, force_lcp)) return false;
       int fixes = 0, r = 0;
-      while ((r = check(t, q, qd, after)) == 1 && ++fixes < 2 * nc() + 2) {}
+      while (true) {
+        if (!mark_implied(t, q, qd, after)) return false;
+        r = check(t, q, qd, after);
+        if (r != 1 || ++fixes >= 2 * nc() + 2) break;
+      }
       if (r == 0) break;
       if (r < 0 || attempt > 0 || force_lcp) {
         if (r > 0)
@@ -710,7 +906,10 @@ class Engine {
       ev.vt_before = vt_b[c];
       ev.vn_after = vn(c, t, q, qd);
       ev.vt_after = vt(c, t, q, qd);
-      if (reactions_before && !reactions_before->lambda_n.empty()) {
+      if (impulsed_[c]) {  // switched by an impact elsewhere: the impulse it received
+        ev.normal = impulse_n_[c];
+        ev.tangential = impulse_t_[c];
+      } else if (reactions_before && !reactions_before->lambda_n.empty()) {
         ev.normal = reactions_before->lambda_n[c];
         ev.tangential = reactions_before->lambda_t[c];
       }
@@ -823,6 +1022,8 @@ class Engine {
   bool lcp_failed_ = false;
   std::vector<double> pending_loss_;
   std::vector<char> anchored_;  ///< per contact: its friction row still holds its position constant
+  std::vector<char> impulsed_;  ///< per contact: took part in this instant's impact without approaching
+  std::vector<double> impulse_n_, impulse_t_;
 };
 
 // Builds the contacts of a run from the active constraints; "" or the reason they cannot be
@@ -1245,6 +1446,8 @@ void count_event(SwitchingResult& res, const ContactEvent& ev, double w0) {
       case ContactEventKind::reversal: ++tot->reversals; break;
     }
     tot->energy_impacts += ev.energy_lost;
+    if (ev.mode_after == ContactMode::flight && ev.mode_before != ContactMode::flight) ++tot->flights;
+    if (ev.mode_after == ContactMode::flight && ev.mode_before == ContactMode::flight) ++tot->flights;  // a rebound
   }
 }
 

@@ -65,6 +65,7 @@ struct ContactStats {
     double closed_time = 0.0;         ///< s in contact (any closed mode)
     double slip_time = 0.0;           ///< s sliding
     long lift_offs = 0, impacts = 0;  ///< impacts include accumulation closures
+    long flights = 0;                 ///< flights begun: lift-offs and rebounds
     long slips = 0, sticks = 0, reversals = 0;
     double max_flight_height = 0.0;   ///< largest gap over the flights (m)
     double max_impact_velocity = 0.0; ///< largest approach speed −v_n⁻ at an impact (m/s)

@@ -16,6 +16,7 @@ nlohmann::json totals(const mech::ContactStats::Totals& t, double length) {
   };
   return {{"contact_fraction", frac(t.closed_time)},
           {"slip_fraction", frac(t.slip_time)},
+          {"flights", t.flights},
           {"lift_offs", t.lift_offs},
           {"impacts", t.impacts},
           {"slips", t.slips},
@@ -91,7 +92,7 @@ std::string switching_report(const nlohmann::json& s) {
   for (const auto& [name, c] : sw["contacts"].items()) {
     const auto& w = c["window"];
     const double cf = w["contact_fraction"].is_null() ? NAN : w["contact_fraction"].get<double>();
-    const long lifts = w["lift_offs"].get<long>(), impacts = w["impacts"].get<long>();
+    const long lifts = w["flights"].get<long>(), impacts = w["impacts"].get<long>();
     os << "    '" << name << "' over the window: ";
     if (lifts == 0 && impacts == 0 && cf >= 1.0 - 1e-12) {
       os << "never leaves the surface";
@@ -125,7 +126,7 @@ std::string switching_report(const nlohmann::json& s) {
     os << "\n      energy lost in the window: " << format_significant(w["energy_impacts"].get<double>(), 3)
        << " J in impacts, " << format_significant(w["energy_friction"].get<double>(), 3)
        << " J by sliding friction; over the run: " << c["run"]["lift_offs"].get<long>() << " lift-offs, "
-       << c["run"]["impacts"].get<long>() << " impacts\n";
+       << c["run"]["impacts"].get<long>() << " impacts, " << c["run"]["flights"].get<long>() << " flights\n";
   }
   return os.str();
 }

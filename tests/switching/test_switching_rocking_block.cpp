@@ -94,3 +94,31 @@ BOOST_AUTO_TEST_CASE(impact_on_the_other_corner_follows_housner) {
     }
   }
 }
+
+// Each impact takes energy (Housner's factor squared per impact at small amplitude) and the
+// intervals between impacts shrink geometrically: the impacts accumulate in finite time. The
+// accumulation rule closes both corners there (SwitchingOptions::zeno_time) and the block
+// rests on both, carrying its weight, with no event afterwards (no stall: a few dozen LCPs).
+BOOST_AUTO_TEST_CASE(rocking_accumulates_and_the_block_rests_on_both_corners) {
+  const double th0 = 0.1;
+  auto m = contact_model("rocking_block", {{"b", kB}, {"h", kH}, {"m", kM}, {"e_n", 0.0}, {"mu", 1.0}});
+  const Eigen::Vector3d q0(0.0, kB * std::sin(th0) + kH * std::cos(th0), th0);
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  Trace tr;
+  const auto r = run(*m, q0, Eigen::Vector3d::Zero(), 3.0, o, {}, &tr);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  const auto acc = events_of(r, ContactEventKind::accumulation);
+  BOOST_REQUIRE(!acc.empty());
+  const double t_rest = acc.back().t;
+  BOOST_TEST_MESSAGE("rest from t = " << t_rest << " s after " << events_of(r, ContactEventKind::impact).size()
+                                      << " impacts; " << r.lcp_solves << " LCPs, " << r.events.size() << " events");
+  BOOST_TEST(t_rest < 2.1);
+  BOOST_TEST(r.events.back().t <= t_rest + 1e-3);
+  BOOST_TEST(r.lcp_solves < 200);
+  BOOST_TEST(tr.modes.back()[0] == ContactMode::stick);
+  BOOST_TEST(tr.modes.back()[1] == ContactMode::stick);
+  BOOST_TEST(std::abs(tr.R.back()[1] - kM * kG) < 1e-9 * kM * kG);   // the weight
+  BOOST_TEST(std::abs(tr.q.back()[2]) < 1e-12);                         // flat
+  BOOST_TEST(r.qd_end.cwiseAbs().maxCoeff() < 1e-12);                   // at rest
+}
