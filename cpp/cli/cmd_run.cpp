@@ -43,8 +43,13 @@ void run(const RunArgs& a) {
                                       : std::filesystem::path(a.out_dir);
   const nlohmann::json summary = pcsim::sim::run_case(c, options);
   std::fputs(pcsim::sim::human_report(c, summary).c_str(), stdout);
-  std::printf("  wrote %s and %s\n", (*options.out_dir / "summary.json").string().c_str(),
-              (*options.out_dir / "timeseries.csv").string().c_str());
+  if (summary.contains("switching"))
+    std::printf("  wrote %s, %s and %s\n", (*options.out_dir / "summary.json").string().c_str(),
+                (*options.out_dir / "timeseries.csv").string().c_str(),
+                (*options.out_dir / "events.csv").string().c_str());
+  else
+    std::printf("  wrote %s and %s\n", (*options.out_dir / "summary.json").string().c_str(),
+                (*options.out_dir / "timeseries.csv").string().c_str());
 }
 
 void setup(CLI::App& app) {

@@ -1291,6 +1291,7 @@ class Run {
         dense_at(step, b, sq_, sqd_);
         double top = eng_.gap(c, b, sq_);
         dense_at(step, a, sq_, sqd_);
+        top = std::max(top, eng_.gap(c, a, sq_));  // a flight that starts high (at t0)
         double va = eng_.vn(c, a, sq_, sqd_);
         dense_at(step, b, sq_, sqd_);
         double vb = eng_.vn(c, b, sq_, sqd_);
