@@ -48,6 +48,12 @@ std::string quoted(const std::string& s) {
   return out + "'";
 }
 
+std::string num_exact(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
 std::string num_text(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%g", v);
@@ -61,7 +67,47 @@ struct Figure {
   double hline = 0;
   bool has_hline = false;
   bool hline_in_window = true;  ///< false: the window panel autoscales to the curve alone
+  double offset = 0.0, scale = 1.0;  ///< curves plotted as (column - offset) * scale
 };
+
+// Switching runs (issue 12): the intervals in which a contact flies or slides, from events.csv
+// (each event's mode_after holds until the contact's next event) and the initial modes of
+// summary.json, shaded on the figures.
+struct Band {
+  double a = 0, b = 0;
+  bool slip = false;
+};
+
+std::vector<Band> mode_bands(const fs::path& events, const nlohmann::json& s, double t_end) {
+  std::vector<Band> out;
+  if (!fs::exists(events) || !s.contains("switching")) return out;
+  std::map<std::string, std::pair<std::string, double>> current;  // constraint -> mode, since
+  for (const auto& [name, c] : s["switching"]["contacts"].items())
+    current[name] = {c.value("initial_mode", std::string("contact")), 0.0};
+  auto close = [&](const std::pair<std::string, double>& m, double t) {
+    if ((m.first == "flight" || m.first == "slip") && t > m.second)
+      out.push_back({m.second, t, m.first == "slip"});
+  };
+  std::ifstream in(events);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::stringstream ls(line);
+    std::string t, kind, constraint, before, after;
+    std::getline(ls, t, ',');
+    std::getline(ls, kind, ',');
+    std::getline(ls, constraint, ',');
+    std::getline(ls, before, ',');
+    std::getline(ls, after, ',');
+    const double tt = std::strtod(t.c_str(), nullptr);
+    auto it = current.find(constraint);
+    if (it == current.end()) continue;
+    close(it->second, tt);
+    it->second = {after, tt};
+  }
+  for (const auto& [name, m] : current) close(m, t_end);
+  return out;
+}
 
 void plot(const std::string& dir_text) {
   const fs::path dir(dir_text);
@@ -112,6 +158,19 @@ void plot(const std::string& dir_text) {
                     "f* [-]", {{"fstar", "f*"}}, "f (friction coefficient)", f, have_f, false});
     figs.push_back({"xy.png", "Desk displacement x(t) (vertical) and y(t) (horizontal)",
                     "displacement [m]", {{"x", "x"}, {"y", "y"}}, "", 0, false});
+    if (s.contains("switching") && col.count("u")) {
+      double u0 = 0;
+      bool have_u0 = false;
+      if (s.contains("parameters") && s["parameters"].contains("u0")) {
+        u0 = s["parameters"]["u0"].get<double>();
+        have_u0 = true;
+      }
+      Figure fu{"u.png", "Roller height over the deck u(t) - u0 (the gap; 0: on the deck)",
+                "u - u0 [micrometres]", {{"u", "u - u0"}}, "on the deck", 0.0, true};
+      fu.offset = have_u0 ? u0 : 0.0;
+      fu.scale = 1e6;
+      figs.push_back(fu);
+    }
   } else {
     // Any model: the coordinates, the reactions that are not identically zero, and the
     // outputs, at most kPerFigure curves per figure (numbered figures beyond that).
@@ -126,6 +185,7 @@ void plot(const std::string& dir_text) {
       if (cname.rfind("R_", 0) == 0) coordinate_names.insert(cname.substr(2));
     for (const auto& [idx, cname] : ordered) {
       if (cname == "t" || cname == "residual_pos" || cname == "residual_vel") continue;
+      if (cname.rfind("mode_", 0) == 0) continue;  // the contacts' modes: shaded, not plotted
       if (coordinate_names.count(cname)) coords.push_back(cname);
       else if (cname.rfind("R_", 0) == 0) {
         const bool zero = ex.contains(cname) && ex[cname]["min"].is_number() &&
@@ -155,6 +215,27 @@ void plot(const std::string& dir_text) {
     add(reactions, "reactions", "Reaction forces R(t) (generalized, by coordinate)", "R");
     add(outputs, "outputs", "Outputs", "value");
   }
+
+  const std::vector<Band> bands = mode_bands(dir / "events.csv", s, w1);
+  // The whole-run panel shades at most this many bands (a long hopping run has one per period;
+  // the window panel shows them all).
+  constexpr std::size_t kMaxBandsWholeRun = 400;
+  auto shade = [&](std::ostringstream& out, double lo, double hi) {
+    int id = 100;
+    std::size_t n = 0;
+    for (const Band& b : bands)
+      if (b.b > lo && b.a < hi) ++n;
+    if (hi - lo > (w1 - w0) * 1.5 && n > kMaxBandsWholeRun) return;
+    for (const Band& b : bands) {
+      if (!(b.b > lo && b.a < hi)) continue;
+      out << "set object " << id++ << " rect from " << std::max(b.a, lo) << ", graph 0 to "
+          << std::min(b.b, hi) << ", graph 1 fc rgb '" << (b.slip ? "#f4a6a6" : "#a6c8f4")
+          << "' fs solid 0.5 noborder behind\n";
+    }
+  };
+  auto unshade = [&](std::ostringstream& out) {
+    for (std::size_t k = 0; k < bands.size() && k < 100000; ++k) out << "unset object " << 100 + k << "\n";
+  };
 
   std::ostringstream g;
   g << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -189,6 +270,15 @@ void plot(const std::string& dir_text) {
         g << "set title " << quoted(title) << "\n";
         g << "set xrange [" << w0 << ":" << w1 << "]\n";
       }
+      if (!bands.empty()) {
+        unshade(g);
+        double lo = -1e300, hi = 1e300;
+        if (panel == 1) {
+          lo = w0;
+          hi = w1;
+        }
+        shade(g, lo, hi);
+      }
       g << "set xlabel 't [s]'\nset ylabel " << quoted(fig.ylabel) << "\n";
       g << "unset label 1\n";
       if (panel == 1 && fig.has_hline && !fig.hline_in_window)
@@ -198,13 +288,23 @@ void plot(const std::string& dir_text) {
       g << "plot ";
       bool first = true;
       for (const auto& [c, legend] : fig.curves) {
-        g << (first ? "" : ", ") << quoted(csv.string()) << " every ::1 using " << col["t"] << ":"
-          << col[c] << " with lines lw 1.5 title " << quoted(legend);
+        g << (first ? "" : ", ") << quoted(csv.string()) << " every ::1 using " << col["t"] << ":";
+        if (fig.offset != 0.0 || fig.scale != 1.0)
+          g << "(($" << col[c] << " - " << num_exact(fig.offset) << ")*" << num_exact(fig.scale) << ")";
+        else
+          g << col[c];
+        g << " with lines lw 1.5 title " << quoted(legend);
         first = false;
       }
       if (fig.has_hline && (panel == 0 || fig.hline_in_window))
         g << ", " << fig.hline << " with lines lw 2 dt 2 lc rgb 'red' title "
           << quoted(fig.hline_label);
+      if (!bands.empty()) {  // legend entries of the shading
+        bool any_slip = false, any_flight = false;
+        for (const Band& b : bands) (b.slip ? any_slip : any_flight) = true;
+        if (any_flight) g << ", keyentry with boxes fs solid 0.5 fc rgb '#a6c8f4' title 'flight (contact open)'";
+        if (any_slip) g << ", keyentry with boxes fs solid 0.5 fc rgb '#f4a6a6' title 'slip'";
+      }
       g << "\n";
     }
     g << "unset multiplot\nunset output\n";
@@ -231,7 +331,8 @@ void setup(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   CLI::App* sub = app.add_subcommand(
       "plot", "PNG figures (gnuplot) of a `pcsim run` output directory: for the sieve theta, R_u, "
-              "f*, x and y; for any other model its coordinates, reactions and outputs");
+              "f*, x and y (and u with switching contacts); for any other model its coordinates, "
+              "reactions and outputs; flights and slips of switching contacts shaded");
   sub->add_option("dir", *dir, "the output directory of `pcsim run`, e.g. out/sieve_1995")
       ->required();
   sub->callback([dir]() { plot(*dir); });
