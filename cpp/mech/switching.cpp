@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <ostream>
 #include <sstream>
@@ -1075,14 +1077,38 @@ class Run {
       : model_(model), opt_(opt), sw_(sw), eng_(eng), res_(res), observer_(observer),
         n_(model.n()), sample_dyn_(model, opt.kernel), event_dyn_(model, opt.kernel) {}
 
-  // The segment's configuration (set before each integration).
-  void configure(const Config& cfg, double t, const Eigen::VectorXd& q) {
+  // The segment's configuration (set before each integration). The event functions start on
+  // their positive side by construction of the modes, often exactly at zero (a gap or a sliding
+  // velocity that has just opened). The kernels take the sign of a function that is exactly
+  // zero at the start from the end of the first step, which would hide a root inside that
+  // step (a flight or a slip shorter than the step). Each function therefore carries a tiny
+  // positive offset (1e-3 of the gap and velocity tolerances, 1e-12 of the forces), so its
+  // sign is known from the start; roots are located that far on the other side of zero.
+  // `grazing`: the previous event of a flying contact changed nothing (its gap returned to
+  // zero without approach velocity and the contact still separates: it grazes the surface at
+  // the integration's accuracy); its next landing is then taken only below -pos_tol, so the
+  // run progresses instead of switching at every rounding-level dip.
+  void configure(const Config& cfg, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                 bool grazing = false) {
     cfg_ = cfg;
     layout_ = eng_.layout(cfg);
     gap_offset_.assign(eng_.nc(), 0.0);
     for (int c = 0; c < eng_.nc(); ++c)
-      if (!is_closed(cfg.modes[c])) gap_offset_[c] = std::min(eng_.gap(c, t, q), 0.0);
+      if (!is_closed(cfg.modes[c]))
+        gap_offset_[c] = std::min(eng_.gap(c, t, q), 0.0) - (grazing ? eng_.pos_tol(q) : 0.0);
     modes_ = cfg.modes;
+    constexpr double kEps = 2.220446049250313e-16;
+    eps_gap_ = 1e3 * kEps * q.cwiseAbs().maxCoeff();
+    eps_vel_ = 1e3 * kEps * qd.cwiseAbs().maxCoeff();
+    eps_force_ = 0.0;
+    bool closed = false;
+    for (ContactMode m : cfg.modes) closed = closed || is_closed(m);
+    if (closed && eng_.solve(event_dyn_, layout_, cfg_, t, q, qd, ev_solved_, eng_.method_) == ModelIssue::none) {
+      double f = 0.0;
+      for (int c = 0; c < eng_.nc(); ++c)
+        f = std::max(f, std::abs(ev_solved_.lambda_n[c]) + std::abs(ev_solved_.lambda_t[c]));
+      eps_force_ = 1e-12 * f;
+    }
   }
 
   bool rhs(double t, const double* y, double* out) {
@@ -1130,11 +1156,11 @@ class Run {
     for (std::size_t i = 0; i < fns_.size(); ++i) {
       const EventFn& f = fns_[i];
       if (f.kind == EventFn::gap) {
-        g[i] = eng_.gap(f.c, t, q_e_) - gap_offset_[f.c];
+        g[i] = eng_.gap(f.c, t, q_e_) - gap_offset_[f.c] + eps_gap_;
         continue;
       }
       if (f.kind == EventFn::sliding) {
-        g[i] = cfg_.sigma[f.c] * eng_.vt(f.c, t, q_e_, qd_e_);
+        g[i] = cfg_.sigma[f.c] * eng_.vt(f.c, t, q_e_, qd_e_) + eps_vel_;
         continue;
       }
       if (!solved) {
@@ -1144,7 +1170,7 @@ class Run {
       }
       const double ln = ev_solved_.lambda_n[f.c], lt = ev_solved_.lambda_t[f.c];
       const double mu = eng_.contacts()[f.c].mu_s;
-      g[i] = f.kind == EventFn::lift_off ? ln : f.kind == EventFn::cone_plus ? mu * ln - lt : mu * ln + lt;
+      g[i] = eps_force_ + (f.kind == EventFn::lift_off ? ln : f.kind == EventFn::cone_plus ? mu * ln - lt : mu * ln + lt);
     }
     return true;
   }
@@ -1328,11 +1354,10 @@ class Run {
       for (int k = 1; k <= K; ++k) {
         const double s = step.t_prev + (step.t - step.t_prev) * k / K;
         dense_at(step, s, sq_, sqd_);
-        // Below the rounding noise of the gap (1e3 eps of the coordinates' size).
+        // Below the accuracy of the positions (a dip within it is not resolved anyway).
         const double g = eng_.gap(c, s, sq_) - gap_offset_[c];
-        const double noise = 1e3 * 2.220446049250313e-16 * (1.0 + sq_.cwiseAbs().maxCoeff());
         if (g > 0.0) prev_t = s;
-        if (g < -noise) {
+        if (g < -eng_.pos_tol(sq_)) {
           double lo = prev_t, hi = s;
           for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
             const double mid = 0.5 * (lo + hi);
@@ -1400,6 +1425,7 @@ class Run {
   Layout layout_;
   std::vector<EventFn> fns_;
   std::vector<double> gap_offset_;
+  double eps_gap_ = 0.0, eps_vel_ = 0.0, eps_force_ = 0.0;
   std::vector<ContactMode> modes_;
   Dynamics sample_dyn_, event_dyn_;
   Solved rhs_solved_, ev_solved_, sample_solved_;
@@ -1545,7 +1571,7 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
   }
 
   Run run(model, options, switching, eng, res, observer);
-  run.configure(cfg, options.t0, q);
+  run.configure(cfg, options.t0, q, qd);
   for (int c = 0; c < eng.nc(); ++c)
     if (!is_closed(cfg.modes[c])) res.contacts[c].flights.push_back({options.t0, options.t_end, eng.gap(c, options.t0, q)});
   run.track_residuals(options.t0, q, qd);
@@ -1666,6 +1692,8 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
       break;
     }
     for (const ContactEvent& ev : evs) {
+      if (std::getenv("PCSIM_DEBUG_EVENTS") && t > std::atof(std::getenv("PCSIM_DEBUG_EVENTS")))
+        std::fprintf(stderr, "%.17g %s %s %s->%s n=%.6g t=%.6g vn %.6g->%.6g vt %.6g->%.6g\n", ev.t, to_string(ev.kind), ev.constraint.c_str(), to_string(ev.mode_before), to_string(ev.mode_after), ev.normal, ev.tangential, ev.vn_before, ev.vn_after, ev.vt_before, ev.vt_after);
       res.events.push_back(ev);
       count_event(res, ev, w0);
       ContactStats& st = res.contacts[ev.contact];
@@ -1675,6 +1703,13 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
         st.flights.back().end = t;  // a bounce: one flight ends, the next begins
         st.flights.push_back({t, options.t_end, 0.0});
       }
+    }
+    if (std::getenv("PCSIM_DEBUG_EVENTS") && t > std::atof(std::getenv("PCSIM_DEBUG_EVENTS"))) {
+      std::fprintf(stderr, "  transition t=%.17g late=%d status=%d roots:", t, (int)late, (int)rr.status);
+      for (int r : rr.roots) std::fprintf(stderr, " %d", r);
+      std::fprintf(stderr, " gap=%.3e vn=%.3e modes:", eng.gap(0, t, q), eng.vn(0, t, q, qd));
+      for (auto m : next.modes) std::fprintf(stderr, " %s", to_string(m));
+      std::fprintf(stderr, "\n");
     }
     total_events += static_cast<long>(evs.size());
     events_at_instant = (t - last_event_time <= 1e-12 * (1.0 + std::abs(t))) ? events_at_instant + 1 : 0;
@@ -1688,8 +1723,9 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
                          : std::to_string(events_at_instant) + " switches at one instant");
       break;
     }
+    const bool nothing_changed = evs.empty() && next.modes == cfg.modes && next.sigma == cfg.sigma;
     cfg = next;
-    run.configure(cfg, t, q);
+    run.configure(cfg, t, q, qd, nothing_changed);
     if (t >= options.t_end) {
       res.status = SimulationStatus::success;
       res.t = t;
