@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <ostream>
 #include <sstream>
@@ -1692,8 +1690,6 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
       break;
     }
     for (const ContactEvent& ev : evs) {
-      if (std::getenv("PCSIM_DEBUG_EVENTS") && t > std::atof(std::getenv("PCSIM_DEBUG_EVENTS")))
-        std::fprintf(stderr, "%.17g %s %s %s->%s n=%.6g t=%.6g vn %.6g->%.6g vt %.6g->%.6g\n", ev.t, to_string(ev.kind), ev.constraint.c_str(), to_string(ev.mode_before), to_string(ev.mode_after), ev.normal, ev.tangential, ev.vn_before, ev.vn_after, ev.vt_before, ev.vt_after);
       res.events.push_back(ev);
       count_event(res, ev, w0);
       ContactStats& st = res.contacts[ev.contact];
@@ -1703,13 +1699,6 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
         st.flights.back().end = t;  // a bounce: one flight ends, the next begins
         st.flights.push_back({t, options.t_end, 0.0});
       }
-    }
-    if (std::getenv("PCSIM_DEBUG_EVENTS") && t > std::atof(std::getenv("PCSIM_DEBUG_EVENTS"))) {
-      std::fprintf(stderr, "  transition t=%.17g late=%d status=%d roots:", t, (int)late, (int)rr.status);
-      for (int r : rr.roots) std::fprintf(stderr, " %d", r);
-      std::fprintf(stderr, " gap=%.3e vn=%.3e modes:", eng.gap(0, t, q), eng.vn(0, t, q, qd));
-      for (auto m : next.modes) std::fprintf(stderr, " %s", to_string(m));
-      std::fprintf(stderr, "\n");
     }
     total_events += static_cast<long>(evs.size());
     events_at_instant = (t - last_event_time <= 1e-12 * (1.0 + std::abs(t))) ? events_at_instant + 1 : 0;
