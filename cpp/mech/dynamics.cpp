@@ -9,6 +9,7 @@
 #include <Eigen/SVD>
 
 #include "linalg/huang.hpp"
+#include "mech/detail/small_dense.hpp"
 
 namespace pcsim::mech {
 
@@ -63,6 +64,7 @@ Dynamics::Dynamics(const Model& model, Kernel kernel, Stabilization stabilizatio
       lu_(model.n()) {
   M.resize(n_, n_);
   A.resize(n_, n_);
+  L_.resize(n_, n_);
   h.resize(n_);
   Q.resize(n_);
   f.resize(n_);
@@ -227,34 +229,54 @@ ModelIssue Dynamics::solve_compatibility() {
 ModelIssue Dynamics::solve_compatibility_structured() {
   // [G; Dᵀ] R = [−G0; 0] with the columns of D spanning null(g): Dᵀ R = 0 says R is orthogonal
   // to null(g), i.e. R = gᵀ λ for some λ, and then G R = g M⁻¹ gᵀ λ = −G0. The same R as the
-  // dense solve, without forming D (test_reactions proves the two equal).
-  if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
-  a0_ = llt_.solve(f);
-  if (s_ == 0) {
+  // dense solve, without forming D (test_reactions proves the two equal). The small SPD
+  // systems are factored and solved by the loops of detail/small_dense.hpp (the hot path).
+  const int n = n_, s = s_;
+  L_ = M;
+  if (!detail::cholesky_lower(L_.data(), n, n, 1e-13)) {
+    factorize_mass();  // the same criterion; it writes the message naming the coordinates
+    return fail(ModelIssue::singular_mass_matrix, message_);
+  }
+  a0_ = f;
+  detail::cholesky_solve(L_.data(), n, n, a0_.data());
+  if (s == 0) {
     R.setZero();
     qdd = a0_;
     return ModelIssue::none;
   }
-  MinvgT_ = llt_.solve(g.transpose());
-  G0.noalias() = g * a0_;
-  G0 += gamma;
-  S_.noalias() = g * MinvgT_;
-  llt_s_.compute(S_);
-  bool ok = llt_s_.info() == Eigen::Success;
-  if (ok) {
-    const auto d = llt_s_.matrixLLT().diagonal().cwiseAbs2();
-    ok = d.minCoeff() > 1e-13 * d.maxCoeff();  // rank-deficient g: dependent constraints
+  // MinvgT = M⁻¹ gᵀ column by column; G0 = g a0 + γ; S = g M⁻¹ gᵀ (s x s, symmetric).
+  for (int r = 0; r < s; ++r) {
+    double* w = MinvgT_.data() + static_cast<std::ptrdiff_t>(r) * n;
+    for (int k = 0; k < n; ++k) w[k] = g(r, k);
+    detail::cholesky_solve(L_.data(), n, n, w);
   }
-  if (!ok) {
+  for (int i = 0; i < s; ++i) {
+    double v = gamma[i];
+    for (int k = 0; k < n; ++k) v += g(i, k) * a0_[k];
+    G0[i] = v;
+    for (int j = 0; j <= i; ++j) {
+      const double* w = MinvgT_.data() + static_cast<std::ptrdiff_t>(j) * n;
+      double sij = 0.0;
+      for (int k = 0; k < n; ++k) sij += g(i, k) * w[k];
+      S_(i, j) = sij;
+    }
+  }
+  if (!detail::cholesky_lower(S_.data(), s, s, 1e-13)) {
     return fail(ModelIssue::dependent_constraints,
                 "the active constraints are linearly dependent at t = " + fmt(t_) +
                     " (g M^-1 g^T is singular); check_model names them");
   }
-  lambda = llt_s_.solve(G0);
-  lambda = -lambda;
-  R.noalias() = g.transpose() * lambda;
-  qdd = a0_;
-  qdd.noalias() += MinvgT_ * lambda;
+  for (int i = 0; i < s; ++i) lambda[i] = -G0[i];
+  detail::cholesky_solve(S_.data(), s, s, lambda.data());
+  for (int k = 0; k < n; ++k) {
+    double rk = 0.0, ak = a0_[k];
+    for (int r = 0; r < s; ++r) {
+      rk += g(r, k) * lambda[r];
+      ak += MinvgT_(k, r) * lambda[r];
+    }
+    R[k] = rk;
+    qdd[k] = ak;
+  }
   return ModelIssue::none;
 }
 

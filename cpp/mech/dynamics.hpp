@@ -100,7 +100,8 @@ class Dynamics {
   std::string message_;
 
   Eigen::LLT<Eigen::MatrixXd> llt_, llt_s_;
-  Eigen::MatrixXd S_;       // g M⁻¹ gᵀ (s x s)
+  Eigen::MatrixXd S_;       // g M⁻¹ gᵀ (s x s), then its Cholesky factor
+  Eigen::MatrixXd L_;       // the Cholesky factor of M (structured solve)
   void lambda_from_R();     // λ from R = gᵀ λ (the dense methods)
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::MatrixXd MinvgT_;  // M⁻¹ gᵀ (n x s)

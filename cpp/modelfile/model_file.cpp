@@ -13,6 +13,7 @@
 #include "modelfile/expression.hpp"
 #include "modelfile/expression_model.hpp"
 #include "modelfile/symbolic.hpp"
+#include "modelfile/tape_io.hpp"
 
 namespace pcsim::modelfile {
 
@@ -623,8 +624,16 @@ std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::p
 }
 
 std::shared_ptr<const ModelDescription> load_model_text(const std::string& text,
-                                                        const std::filesystem::path& name) {
-  return build(std::make_shared<const ModelSource>(detail::parse_model_source_text(text, name)));
+                                                        const std::filesystem::path& name,
+                                                        const std::string* precompiled) {
+  auto src = std::make_shared<const ModelSource>(detail::parse_model_source_text(text, name));
+  if (precompiled) {
+    if (auto compiled = deserialize_compiled(*precompiled, text)) {
+      ModelDescription::Parts parts{std::move(src), std::move(compiled)};
+      return std::make_shared<const ModelDescription>(std::move(parts));
+    }
+  }
+  return build(std::move(src));
 }
 
 }  // namespace pcsim::modelfile

@@ -145,8 +145,11 @@ std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::p
 
 /// The same from the text of a model file (a built-in model compiled into pcsim, or a file
 /// already read); `name` names it in messages.
+/// `precompiled`: serialize_compiled() bytes of this text's compiled model (made at build time
+/// for the built-in models); when they match the text, the symbolic derivation is skipped.
 std::shared_ptr<const ModelDescription> load_model_text(const std::string& text,
-                                                        const std::filesystem::path& name);
+                                                        const std::filesystem::path& name,
+                                                        const std::string* precompiled = nullptr);
 
 /// The same for a [model] table already read (e.g. inline in a case file). `source` names the
 /// file in messages; `key_prefix` is the dotted key of the table ("model").

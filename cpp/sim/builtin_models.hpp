@@ -2,6 +2,7 @@
 // cmake/embed_models.cmake), so that the built-in models run without the models/ directory.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -16,5 +17,9 @@ const std::vector<EmbeddedModel>& embedded_models();
 
 /// The text of an embedded model file by stem; throws std::out_of_range if there is none.
 const char* embedded_model_text(const std::string& file_stem);
+
+/// The compiled models of the embedded files, derived at build time
+/// (tools/precompile_models.cpp; modelfile::serialize_compiled bytes), by file stem.
+const std::map<std::string, std::string>& embedded_model_tapes();
 
 }  // namespace pcsim::sim
