@@ -65,6 +65,7 @@ Dynamics::Dynamics(const Model& model, Kernel kernel, Stabilization stabilizatio
   M.resize(n_, n_);
   A.resize(n_, n_);
   L_.resize(n_, n_);
+  inv_.resize(n_);
   h.resize(n_);
   Q.resize(n_);
   f.resize(n_);
@@ -86,6 +87,7 @@ void Dynamics::resize_for(int s) {
   G0.resize(s_);
   MinvgT_.resize(n_, s_);
   S_.resize(s_, s_);
+  inv_s_.resize(s_);
   lambda.resize(s_);
 }
 
@@ -226,56 +228,85 @@ ModelIssue Dynamics::solve_compatibility() {
   return ModelIssue::none;
 }
 
+// The structured solve on raw storage; N > 0 fixes n at compile time (unrolled loops for the
+// common small models), N = 0 takes n at run time.
+template <int N>
+bool Dynamics::structured_kernel() {
+  const int n = N > 0 ? N : n_, s = s_;
+  const double* gp = g.data();  // s x n, column-major: g(r, k) = gp[r + k s]
+  double* L = L_.data();
+  std::copy(M.data(), M.data() + n * n, L);
+  if (!detail::cholesky_lower<N>(L, n, n, 1e-13, inv_.data())) return false;
+  double* a0 = a0_.data();
+  std::copy(f.data(), f.data() + n, a0);
+  detail::cholesky_solve<N>(L, inv_.data(), n, n, a0);
+  double* W = MinvgT_.data();  // n x s: column r = M⁻¹ g_rᵀ
+  for (int r = 0; r < s; ++r) {
+    double* w = W + static_cast<std::ptrdiff_t>(r) * n;
+    for (int k = 0; k < n; ++k) w[k] = gp[r + k * s];
+    detail::cholesky_solve<N>(L, inv_.data(), n, n, w);
+  }
+  double* S = S_.data();
+  for (int i = 0; i < s; ++i) {
+    double v = gamma[i];
+    for (int k = 0; k < n; ++k) v += gp[i + k * s] * a0[k];
+    G0[i] = v;
+    for (int j = 0; j <= i; ++j) {
+      const double* w = W + static_cast<std::ptrdiff_t>(j) * n;
+      double sij = 0.0;
+      for (int k = 0; k < n; ++k) sij += gp[i + k * s] * w[k];
+      S[i + j * s] = sij;
+    }
+  }
+  singular_s_ = !detail::cholesky_lower(S, s, s, 1e-13, inv_s_.data());
+  if (singular_s_) return true;
+  double* lam = lambda.data();
+  for (int i = 0; i < s; ++i) lam[i] = -G0[i];
+  detail::cholesky_solve(S, inv_s_.data(), s, s, lam);
+  for (int k = 0; k < n; ++k) {
+    double rk = 0.0, ak = a0[k];
+    for (int r = 0; r < s; ++r) {
+      rk += gp[r + k * s] * lam[r];
+      ak += W[k + r * n] * lam[r];
+    }
+    R[k] = rk;
+    qdd[k] = ak;
+  }
+  return true;
+}
+
 ModelIssue Dynamics::solve_compatibility_structured() {
   // [G; Dᵀ] R = [−G0; 0] with the columns of D spanning null(g): Dᵀ R = 0 says R is orthogonal
   // to null(g), i.e. R = gᵀ λ for some λ, and then G R = g M⁻¹ gᵀ λ = −G0. The same R as the
   // dense solve, without forming D (test_reactions proves the two equal). The small SPD
   // systems are factored and solved by the loops of detail/small_dense.hpp (the hot path).
-  const int n = n_, s = s_;
-  L_ = M;
-  if (!detail::cholesky_lower(L_.data(), n, n, 1e-13)) {
+  if (s_ == 0) {
+    // No constraint: q̈ = M⁻¹ f.
+  }
+  bool ok;
+  switch (n_) {
+    case 1: ok = structured_kernel<1>(); break;
+    case 2: ok = structured_kernel<2>(); break;
+    case 3: ok = structured_kernel<3>(); break;
+    case 4: ok = structured_kernel<4>(); break;
+    case 5: ok = structured_kernel<5>(); break;
+    case 6: ok = structured_kernel<6>(); break;
+    case 7: ok = structured_kernel<7>(); break;
+    case 8: ok = structured_kernel<8>(); break;
+    default: ok = structured_kernel<0>(); break;
+  }
+  if (!ok) {
     factorize_mass();  // the same criterion; it writes the message naming the coordinates
     return fail(ModelIssue::singular_mass_matrix, message_);
   }
-  a0_ = f;
-  detail::cholesky_solve(L_.data(), n, n, a0_.data());
-  if (s == 0) {
-    R.setZero();
-    qdd = a0_;
-    return ModelIssue::none;
-  }
-  // MinvgT = M⁻¹ gᵀ column by column; G0 = g a0 + γ; S = g M⁻¹ gᵀ (s x s, symmetric).
-  for (int r = 0; r < s; ++r) {
-    double* w = MinvgT_.data() + static_cast<std::ptrdiff_t>(r) * n;
-    for (int k = 0; k < n; ++k) w[k] = g(r, k);
-    detail::cholesky_solve(L_.data(), n, n, w);
-  }
-  for (int i = 0; i < s; ++i) {
-    double v = gamma[i];
-    for (int k = 0; k < n; ++k) v += g(i, k) * a0_[k];
-    G0[i] = v;
-    for (int j = 0; j <= i; ++j) {
-      const double* w = MinvgT_.data() + static_cast<std::ptrdiff_t>(j) * n;
-      double sij = 0.0;
-      for (int k = 0; k < n; ++k) sij += g(i, k) * w[k];
-      S_(i, j) = sij;
-    }
-  }
-  if (!detail::cholesky_lower(S_.data(), s, s, 1e-13)) {
+  if (singular_s_) {
     return fail(ModelIssue::dependent_constraints,
                 "the active constraints are linearly dependent at t = " + fmt(t_) +
                     " (g M^-1 g^T is singular); check_model names them");
   }
-  for (int i = 0; i < s; ++i) lambda[i] = -G0[i];
-  detail::cholesky_solve(S_.data(), s, s, lambda.data());
-  for (int k = 0; k < n; ++k) {
-    double rk = 0.0, ak = a0_[k];
-    for (int r = 0; r < s; ++r) {
-      rk += g(r, k) * lambda[r];
-      ak += MinvgT_(k, r) * lambda[r];
-    }
-    R[k] = rk;
-    qdd[k] = ak;
+  if (s_ == 0) {
+    R.setZero();
+    qdd = a0_;
   }
   return ModelIssue::none;
 }
