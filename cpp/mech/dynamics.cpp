@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <type_traits>
 #include <cmath>
 #include <sstream>
 
@@ -230,41 +231,54 @@ ModelIssue Dynamics::solve_compatibility() {
 
 // The structured solve on raw storage; N > 0 fixes n at compile time (unrolled loops for the
 // common small models), N = 0 takes n at run time.
-template <int N>
+template <int N, int NS>
 bool Dynamics::structured_kernel() {
-  const int n = N > 0 ? N : n_, s = s_;
+  const int n = N > 0 ? N : n_, s = NS >= 0 ? NS : s_;
   const double* gp = g.data();  // s x n, column-major: g(r, k) = gp[r + k s]
   double* L = L_.data();
-  std::copy(M.data(), M.data() + n * n, L);
-  if (!detail::cholesky_lower<N>(L, n, n, 1e-13, inv_.data())) return false;
+  const double* Mp = M.data();
+  PCSIM_UNROLL
+  for (int k = 0; k < n * n; ++k) L[k] = Mp[k];
+  if (!detail::cholesky_upper<N>(L, n, n, 1e-13, inv_.data())) return false;
   double* a0 = a0_.data();
-  std::copy(f.data(), f.data() + n, a0);
+  const double* fp = f.data();
+  PCSIM_UNROLL
+  for (int k = 0; k < n; ++k) a0[k] = fp[k];
   detail::cholesky_solve<N>(L, inv_.data(), n, n, a0);
   double* W = MinvgT_.data();  // n x s: column r = M⁻¹ g_rᵀ
+  PCSIM_UNROLL
   for (int r = 0; r < s; ++r) {
     double* w = W + static_cast<std::ptrdiff_t>(r) * n;
+    PCSIM_UNROLL
     for (int k = 0; k < n; ++k) w[k] = gp[r + k * s];
     detail::cholesky_solve<N>(L, inv_.data(), n, n, w);
   }
   double* S = S_.data();
+  PCSIM_UNROLL
   for (int i = 0; i < s; ++i) {
     double v = gamma[i];
+    PCSIM_UNROLL
     for (int k = 0; k < n; ++k) v += gp[i + k * s] * a0[k];
     G0[i] = v;
+    PCSIM_UNROLL
     for (int j = 0; j <= i; ++j) {
       const double* w = W + static_cast<std::ptrdiff_t>(j) * n;
       double sij = 0.0;
+      PCSIM_UNROLL
       for (int k = 0; k < n; ++k) sij += gp[i + k * s] * w[k];
-      S[i + j * s] = sij;
+      S[j + i * s] = sij;  // the upper triangle (j <= i), as cholesky_upper reads
     }
   }
-  singular_s_ = !detail::cholesky_lower(S, s, s, 1e-13, inv_s_.data());
+  singular_s_ = !detail::cholesky_upper<(NS > 0 ? NS : 0)>(S, s, s, 1e-13, inv_s_.data());
   if (singular_s_) return true;
   double* lam = lambda.data();
+  PCSIM_UNROLL
   for (int i = 0; i < s; ++i) lam[i] = -G0[i];
-  detail::cholesky_solve(S, inv_s_.data(), s, s, lam);
+  detail::cholesky_solve<(NS > 0 ? NS : 0)>(S, inv_s_.data(), s, s, lam);
+  PCSIM_UNROLL
   for (int k = 0; k < n; ++k) {
     double rk = 0.0, ak = a0[k];
+    PCSIM_UNROLL
     for (int r = 0; r < s; ++r) {
       rk += gp[r + k * s] * lam[r];
       ak += W[k + r * n] * lam[r];
@@ -283,17 +297,24 @@ ModelIssue Dynamics::solve_compatibility_structured() {
   if (s_ == 0) {
     // No constraint: q̈ = M⁻¹ f.
   }
+  // Compile-time sizes for the common small models (the loops unroll), run-time otherwise.
   bool ok;
+  auto by_s = [this](auto n_tag) {
+    constexpr int N = decltype(n_tag)::value;
+    switch (s_) {
+      case 1: return structured_kernel<N, 1>();
+      case 2: return structured_kernel<N, 2>();
+      case 3: return structured_kernel<N, 3>();
+      default: return structured_kernel<N, -1>();
+    }
+  };
   switch (n_) {
-    case 1: ok = structured_kernel<1>(); break;
-    case 2: ok = structured_kernel<2>(); break;
-    case 3: ok = structured_kernel<3>(); break;
-    case 4: ok = structured_kernel<4>(); break;
-    case 5: ok = structured_kernel<5>(); break;
-    case 6: ok = structured_kernel<6>(); break;
-    case 7: ok = structured_kernel<7>(); break;
-    case 8: ok = structured_kernel<8>(); break;
-    default: ok = structured_kernel<0>(); break;
+    case 2: ok = by_s(std::integral_constant<int, 2>{}); break;
+    case 3: ok = by_s(std::integral_constant<int, 3>{}); break;
+    case 4: ok = by_s(std::integral_constant<int, 4>{}); break;
+    case 5: ok = by_s(std::integral_constant<int, 5>{}); break;
+    case 6: ok = by_s(std::integral_constant<int, 6>{}); break;
+    default: ok = structured_kernel<0, -1>(); break;
   }
   if (!ok) {
     factorize_mass();  // the same criterion; it writes the message naming the coordinates

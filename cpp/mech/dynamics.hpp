@@ -85,7 +85,7 @@ class Dynamics {
   ModelIssue null_basis();
   ModelIssue solve_compatibility();
   ModelIssue solve_compatibility_structured();
-  template <int N> bool structured_kernel();
+  template <int N, int NS> bool structured_kernel();
   bool singular_s_ = false;
   ModelIssue solve_kkt();
   ModelIssue solve_udwadia_kalaba();

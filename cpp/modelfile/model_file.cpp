@@ -625,10 +625,12 @@ std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::p
 
 std::shared_ptr<const ModelDescription> load_model_text(const std::string& text,
                                                         const std::filesystem::path& name,
-                                                        const std::string* precompiled) {
+                                                        const std::string* precompiled,
+                                                        const std::vector<NativeBlock>* native) {
   auto src = std::make_shared<const ModelSource>(detail::parse_model_source_text(text, name));
   if (precompiled) {
     if (auto compiled = deserialize_compiled(*precompiled, text)) {
+      if (native && native->size() == compiled->tape.blocks.size()) compiled->native = *native;
       ModelDescription::Parts parts{std::move(src), std::move(compiled)};
       return std::make_shared<const ModelDescription>(std::move(parts));
     }

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "modelfile/tape.hpp"
+
 namespace pcsim::sim {
 
 struct EmbeddedModel {
@@ -21,5 +23,8 @@ const char* embedded_model_text(const std::string& file_stem);
 /// The compiled models of the embedded files, derived at build time
 /// (tools/precompile_models.cpp; modelfile::serialize_compiled bytes), by file stem.
 const std::map<std::string, std::string>& embedded_model_tapes();
+
+/// Their tape blocks as native functions (the same operations), by file stem.
+const std::map<std::string, std::vector<modelfile::NativeBlock>>& embedded_model_natives();
 
 }  // namespace pcsim::sim
