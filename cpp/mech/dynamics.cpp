@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
+#include "common/format.hpp"
 #include "linalg/huang.hpp"
 #include "mech/detail/small_dense.hpp"
 
@@ -16,12 +17,7 @@ namespace pcsim::mech {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return format_significant(v, 6); }
 
 }  // namespace
 

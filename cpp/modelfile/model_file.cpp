@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "modelfile/expression.hpp"
 #include "modelfile/expression_model.hpp"
 #include "modelfile/symbolic.hpp"
@@ -34,15 +35,7 @@ bool ParameterSpec::admits(double v) const {
 namespace {
 
 std::string number_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  // The shortest of %.15g..%.17g that reads back equal (so 0.1 prints as 0.1).
-  for (int p = 15; p <= 17; ++p) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.*g", p, v);
-    if (std::strtod(b, nullptr) == v) return b;
-  }
-  return buf;
+  return format_number(v);  // the project's one formatter: shortest round trip
 }
 
 }  // namespace
