@@ -316,7 +316,8 @@ std::string human_report(const Case& c, const nlohmann::json& s) {
   std::ostringstream os;
   os << "pcsim run: case '" << s["case"].get<std::string>() << "' (" << c.model->origin() << ", "
      << s["kernel"].get<std::string>() << " kernel, " << s["form"].get<std::string>()
-     << " form), " << format_number(s["t_end"].get<double>()) << " s of motion\n";
+     << " form, " << s.value("methods_used", std::string()) << "), "
+     << format_number(s["t_end"].get<double>()) << " s of motion\n";
   os << "  constraints:";
   if (s["constraints"].empty()) os << " none";
   for (const auto& n : s["constraints"]) os << ' ' << n.get<std::string>();
