@@ -26,5 +26,6 @@ endforeach()
 # are precompiled): pull the defining object in by naming the symbol as undefined.
 if(PCSIM_SANITIZE)
   target_link_options(pcsim_modelfile INTERFACE
-    "$<$<CONFIG:Debug>:LINKER:--undefined=__lsan_default_suppressions>")
+    "$<$<CONFIG:Debug>:LINKER:--undefined=__lsan_default_suppressions>"
+    "$<$<CONFIG:Debug>:LINKER:--undefined=__lsan_default_options>")
 endif()
