@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <ostream>
 #include <sstream>
@@ -1368,6 +1369,42 @@ class Run {
         }
       }
     }
+    // The same for the forces and sliding velocities of closed contacts (a normal force that
+    // turns negative and back, or a cone left and re-entered, within one long step: the
+    // explicit pair takes steps of a third of the sieve's excitation period while it sticks).
+    // They are sampled at a few points inside the step; the first sign change is located by
+    // bisection on the dense output.
+    bool any_closed_fn = false;
+    for (const EventFn& f : fns_) any_closed_fn = any_closed_fn || f.kind != EventFn::gap;
+    if (any_closed_fn) {
+      constexpr int K = 4;
+      gs_.resize(fns_.size());
+      ys_.resize(2 * n_);
+      auto negative = [&](double s) {
+        step.dense(s, ys_.data());
+        if (!events(s, ys_.data(), gs_.data())) return false;
+        for (std::size_t i = 0; i < fns_.size(); ++i)
+          if (fns_[i].kind != EventFn::gap && gs_[i] < 0.0) return true;
+        return false;
+      };
+      double prev_t = step.t_prev;
+      const double stop = late ? t_end : step.t;
+      for (int k = 1; k < K; ++k) {
+        const double s = step.t_prev + (stop - step.t_prev) * k / K;
+        if (!negative(s)) {
+          prev_t = s;
+          continue;
+        }
+        double lo = prev_t, hi = s;
+        for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
+          const double mid = 0.5 * (lo + hi);
+          (negative(mid) ? hi : lo) = mid;
+        }
+        t_end = hi;
+        late = true;
+        break;
+      }
+    }
     if (late) {
       dense_at(step, t_end, q, qd);
       late_state_q_ = q;
@@ -1377,7 +1414,7 @@ class Run {
       ++res_.late_roots;
     }
     bool modified = false;
-    if (!late && !layout_.imposed.empty()) {
+    if (!late && !layout_.imposed.empty() && !consistent_enough(step.t, q, qd)) {
       double dq = 0.0, dv = 0.0;
       std::string msg;
       const ModelIssue e = eng_.project(layout_, step.t, q, qd, dq, dv, msg);
@@ -1402,6 +1439,23 @@ class Run {
     return modified ? StepAction::state_modified : StepAction::proceed;
   }
 
+  // As simulate() decides: a state that satisfies the imposed constraints to the projection's
+  // tolerance already is left alone (the projection would change it by rounding only, and the
+  // explicit pair keeps its last evaluation); the pre-issue-14 path projects after every step.
+  bool consistent_enough(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    if (opt_.linear_algebra == RadauOptions::LinearAlgebra::lapack) return false;
+    double pos = 0.0, vel = 0.0, gmax = 0.0;
+    for (int i : layout_.imposed) {
+      const Row r = eng_.row(i, t, q, qd);
+      vel = std::max(vel, std::abs(r.value(qd)));
+      gmax = std::max(gmax, r.g.cwiseAbs().maxCoeff());
+      if (model_.constraints()[i].kind == ConstraintKind::holonomic && eng_.position_level(i))
+        pos = std::max(pos, std::abs(model_.position_residual(i, t, q)));
+    }
+    return pos <= opt_.projection_tol * (1.0 + q.lpNorm<Eigen::Infinity>()) &&
+           vel <= opt_.projection_tol * (1.0 + gmax * qd.lpNorm<Eigen::Infinity>());
+  }
+
   void track_residuals(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     for (int i : layout_.imposed) {
       const Row r = eng_.row(i, t, q, qd);
@@ -1422,7 +1476,7 @@ class Run {
   Config cfg_;
   Layout layout_;
   std::vector<EventFn> fns_;
-  std::vector<double> gap_offset_;
+  std::vector<double> gap_offset_, gs_, ys_;
   double eps_gap_ = 0.0, eps_vel_ = 0.0, eps_force_ = 0.0;
   std::vector<ContactMode> modes_;
   Dynamics sample_dyn_, event_dyn_;

@@ -10,7 +10,7 @@ namespace pcsim::modelfile {
 
 namespace {
 
-constexpr char kTag[] = "pcsim-compiled-model-1";
+constexpr char kTag[] = "pcsim-compiled-model-2";  // 2: contact attributes (issue 12)
 
 class Writer {
  public:
@@ -113,6 +113,9 @@ std::string serialize_compiled(const CompiledModel& c, const std::string& text) 
     w.pod<int>(static_cast<int>(k.kind));
     w.pod<bool>(k.constant_row);
     w.pod<bool>(k.active_by_default);
+    w.pod<bool>(k.contact.unilateral);  // contact attributes (issue 12); values: contact_slots
+    w.pod<int>(k.contact.gap_sign);
+    w.pod<int>(k.contact.friction_of);
   }
   w.pod<std::uint64_t>(c.output_names.size());
   for (const auto& s : c.output_names) w.str(s);
@@ -143,6 +146,7 @@ std::string serialize_compiled(const CompiledModel& c, const std::string& text) 
     w.pod(b.rows);
     w.pod(b.position);
     w.pod(b.hidden);
+    for (std::int64_t slot : b.contact_slots) w.pod(slot);
   }
   w.pod(c.period_slot);
   return w.out;
@@ -162,6 +166,9 @@ std::shared_ptr<CompiledModel> deserialize_compiled(const std::string& bytes, co
       k.kind = static_cast<mech::ConstraintKind>(r.pod<int>());
       k.constant_row = r.pod<bool>();
       k.active_by_default = r.pod<bool>();
+      k.contact.unilateral = r.pod<bool>();
+      k.contact.gap_sign = r.pod<int>();
+      k.contact.friction_of = r.pod<int>();
       c->constraints.push_back(k);
     }
     for (auto n = r.pod<std::uint64_t>(); n > 0; --n) c->output_names.push_back(r.str());
@@ -193,6 +200,7 @@ std::shared_ptr<CompiledModel> deserialize_compiled(const std::string& bytes, co
       b.rows = r.pod<int>();
       b.position = r.pod<int>();
       b.hidden = r.pod<int>();
+      for (std::int64_t& slot : b.contact_slots) slot = r.pod<std::int64_t>();
       c->constraint_blocks.push_back(b);
     }
     c->period_slot = r.pod<std::int64_t>();
