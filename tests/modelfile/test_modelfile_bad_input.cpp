@@ -313,3 +313,43 @@ BOOST_AUTO_TEST_CASE(added_constraints_are_checked_like_the_files) {
   e.key = "constraints.hold";
   BOOST_TEST(contains_all(error(e), {"case.toml: key 'constraints.hold'"}));
 }
+
+// Contact attributes (issue 12): where they may appear, what they must name, their ranges.
+BOOST_AUTO_TEST_CASE(contact_attributes_are_checked) {
+  const std::string floor = "[[model.constraint]]\nname = \"floor\"\nholonomic = \"y\"\nunilateral = true\n";
+  const std::string base = kValid + floor;
+  expect_rejected(base + "gap_sign = 2\n", "model.constraint[floor].gap_sign", {"1", "-1", "got 2"});
+  expect_rejected(replaced("holonomic = \"r2 - L^2\"", "holonomic = \"r2 - L^2\"\ngap_sign = -1"),
+                  "model.constraint[rod].gap_sign", {"unilateral = true"});
+  expect_rejected(replaced("holonomic = \"r2 - L^2\"", "holonomic = \"r2 - L^2\"\nrestitution = 0.5"),
+                  "model.constraint[rod].restitution", {"unilateral = true"});
+  expect_rejected(kValid + "[[model.constraint]]\nname = \"v\"\nvelocity = { x = \"1\" }\nunilateral = true\n",
+                  "model.constraint[v].unilateral", {"holonomic"});
+  expect_rejected(base + "[[model.constraint]]\nname = \"slide\"\nvelocity = { x = \"1\" }\nfriction = \"rod\"\nmu_static = 0.3\n",
+                  "model.constraint[slide].friction", {"unilateral constraint", "declared: floor", "got 'rod'"});
+  expect_rejected(base + "[[model.constraint]]\nname = \"slide\"\nvelocity = { x = \"1\" }\nfriction = \"floor\"\n",
+                  "model.constraint[slide].mu_static", {"Coulomb"});
+  expect_rejected(base + "[[model.constraint]]\nname = \"slide\"\nvelocity = { x = \"1\" }\nmu_static = 0.3\n",
+                  "model.constraint[slide].mu_static", {"friction = \"NAME\""});
+  expect_rejected(base + "[[model.constraint]]\nname = \"slide\"\nholonomic = \"x\"\nunilateral = true\nfriction = \"floor\"\nmu_static = 0.3\n",
+                  "model.constraint[slide].friction", {"either unilateral", "not both"});
+  expect_rejected(base + "restitution = \"x\"\n", "model.constraint[floor].restitution", {"parameters only"});
+  // Ranges depend on the parameter values: instantiate() checks them.
+  const auto d = load_model_file(write(base + "restitution = \"m\"\n[[model.constraint]]\nname = \"slide\"\n"
+                                       "velocity = { x = \"1\" }\nfriction = \"floor\"\nmu_static = \"L\"\nmu_kinetic = 0.5\n"));
+  BOOST_TEST(input_error_of([&] { d->instantiate({{"m", 0.5}}); }).empty());
+  BOOST_TEST(contains_all(input_error_of([&] { d->instantiate({{"m", 1.5}}); }),
+                          {"key 'model.constraint[floor].restitution'", "[0, 1]", "got 1.5", "\"m\""}));
+  BOOST_TEST(contains_all(input_error_of([&] { d->instantiate({{"m", 0.5}, {"L", 0.25}}); }),
+                          {"key 'model.constraint[slide].mu_kinetic'", "mu_static = 0.25", "got 0.5"}));
+  // What instantiate() gives the engine.
+  const auto model = d->instantiate({{"m", 0.5}, {"L", 0.75}});
+  const auto& c = model->constraints();
+  BOOST_TEST(c[1].contact.unilateral);
+  BOOST_TEST(c[1].contact.restitution == 0.5);
+  BOOST_TEST(c[2].contact.friction_of == 1);
+  BOOST_TEST(c[2].contact.mu_static == 0.75);
+  BOOST_TEST(c[2].contact.mu_kinetic == 0.5);
+  BOOST_TEST(!c[0].contact.unilateral);
+  BOOST_TEST(!c[0].contact.is_friction());
+}
