@@ -51,6 +51,7 @@ PCSIM_EXPORT int pcsim_lcp_plugin_solve(int n, const double* M, const double* q,
     if (A) NM_free(A);
     free(qq);
     if (options) solver_options_delete(options);
+    free(options);
     say(message, message_len, "out of memory");
     return -2;
   }
@@ -82,7 +83,8 @@ PCSIM_EXPORT int pcsim_lcp_plugin_solve(int n, const double* M, const double* q,
     say(message, message_len, text);
     info = -2;
   }
-  solver_options_delete(options);
+  solver_options_delete(options);  /* frees the members, not the structure itself (4.4) */
+  free(options);
   NM_free(A);
   free(qq);
   return info;
