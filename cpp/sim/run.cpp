@@ -13,6 +13,7 @@
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
+#include "mech/projection.hpp"
 #include "mech/simulation.hpp"
 #include "sim/client.hpp"
 #include "sim/extremes.hpp"
@@ -168,16 +169,42 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   // The output directory first: a second run into it is refused before any computation.
   std::unique_ptr<OutputDirectory> out;
   OutputStream csv;
-  if (options.out_dir) {
+  OutputDirectory* dir = options.directory;
+  if (options.out_dir && !dir) {
     out = std::make_unique<OutputDirectory>(*options.out_dir);
-    csv = out->open("timeseries.csv");
+    dir = out.get();
+  }
+  if (dir) {
+    csv = dir->open("timeseries.csv");
     std::string& h = csv.buffer();
     const auto cols = timeseries_columns(c);
     for (std::size_t i = 0; i < cols.size(); ++i) h += (i ? "," : "") + cols[i];
     h += '\n';
   }
 
-  const auto model = source.instantiate(set.parameters, set.q0, 0.0, c.table, options.variant);
+  std::shared_ptr<const mech::Model> model =
+      source.instantiate(set.parameters, set.q0, 0.0, c.table, options.variant);
+  Eigen::VectorXd q0 = set.q0, qd0 = set.qd0;
+  nlohmann::json start_json;
+  if (options.start) {
+    q0 = options.start->first;
+    qd0 = options.start->second;
+  } else if (set.equilibrium_start) {
+    const mech::EquilibriumResult e = case_equilibrium(c, set, *model);
+    q0 = e.q;
+    qd0.setZero();
+    start_json["from"] = "equilibrium";
+    nlohmann::json q = nlohmann::json::object();
+    for (int i = 0; i < n; ++i) q[source.coordinates()[i]] = e.q[i];
+    start_json["q"] = q;
+    start_json["force_imbalance"] = e.residual;
+    const auto slow = source.slow_coordinates();
+    nlohmann::json held = nlohmann::json::object();
+    for (std::size_t k = 0; k < slow.size() && k < static_cast<std::size_t>(e.holding_force.size()); ++k)
+      held[slow[k]] = e.holding_force[k];
+    start_json["holding_forces"] = held;
+  }
+  if (options.wrap_model) model = options.wrap_model(model);
 
   mech::SimulationOptions so;
   so.kernel = set.kernel;
@@ -213,7 +240,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   bool stopped_by_client = false;
   const auto t_start = std::chrono::steady_clock::now();
   const mech::SimulationResult res = mech::simulate(
-      *model, set.q0, set.qd0, so, [&](const mech::StepView& v) {
+      *model, q0, qd0, so, [&](const mech::StepView& v) {
         if (client_mon && !client_mon->observe(v)) {
           stopped_by_client = true;
           return false;
@@ -288,6 +315,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   j["output_dt"] = set.dt;
   j["initial_correction"] = {{"position", res.initial_correction_pos},
                              {"velocity", res.initial_correction_vel}};
+  if (!start_json.is_null()) j["initial_state"] = start_json;
   j["complete"] = complete;
   if (client_mon) client_mon->finish(res, ext, j);
   if (!complete) {
@@ -301,6 +329,8 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
     csv.close();
     out->write("summary.json", j.dump(2) + "\n");
     out->commit();
+  } else if (dir) {
+    csv.close();
   }
   if (!complete)
     throw NumericalError("case '" + c.name + "': " + client_mon->stop_reason() +
@@ -309,6 +339,27 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
                                   : std::string()),
                          client_mon->stop_time());
   return j;
+}
+
+mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& set, const mech::Model& model) {
+  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  if (!model.has_tangents())
+    throw InputError(where + ": key 'initial.from': \"equilibrium\" needs a model with exact "
+                     "tangents (a model file; the " + c.model->origin() + " instance has none)");
+  std::vector<int> active;
+  std::string msg;
+  if (mech::resolve_constraints(model, set.active, active, msg) != mech::ModelIssue::none)
+    throw InputError(where + ": " + msg);
+  mech::EquilibriumOptions eo;
+  eo.period = set.period;
+  for (const auto& name : c.model->slow_coordinates()) {
+    const int i = c.model->coordinate_index(name);
+    if (i >= 0) eo.held.push_back(i);
+  }
+  mech::EquilibriumResult e = mech::static_equilibrium(model, active, set.q0, eo);
+  if (e.issue != mech::ModelIssue::none)
+    throw NumericalError("case '" + c.name + "': initial.from = \"equilibrium\": " + e.message, 0.0);
+  return e;
 }
 
 std::string human_report(const Case& c, const nlohmann::json& s) {

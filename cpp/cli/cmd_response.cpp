@@ -1,0 +1,1 @@
+// `pcsim response` (placeholder until the continuation lands).
