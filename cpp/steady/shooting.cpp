@@ -39,7 +39,7 @@ Shooter::Shooter(OrbitProblem problem, ShootingOptions options)
   if (problem_.hold.size() != static_cast<Eigen::Index>(problem_.slow.size()))
     throw std::invalid_argument("shooting: one held value per slow coordinate");
   n_ = problem_.model->n();
-  const double omega = kTwoPi / orbit_period();
+  const double omega = problem_.velocity_scale > 0 ? problem_.velocity_scale : kTwoPi / orbit_period();
   scale_.resize(2 * n_);
   scale_.head(n_).setOnes();
   scale_.tail(n_).setConstant(1.0 / omega);
@@ -124,7 +124,7 @@ Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative*
   VariationalSetup vs;
   vs.model = model.get();
   vs.active = problem_.active;
-  vs.quadrature = problem_.slow;
+  for (int i = 0; i < n; ++i) vs.quadrature.push_back(i);  // every coordinate's period mean
   vs.inverse_mass_quadrature = problem_.slow;
   Eigen::MatrixXd Y0 = Eigen::MatrixXd::Zero(2 * n, cols);
   for (int j = 0; j < m; ++j) Y0.col(j) = L.basis.col(j).cwiseQuotient(scale_);
@@ -224,15 +224,28 @@ Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative*
   const Eigen::MatrixXd SY = scale_.asDiagonal() * vr.Y;
   L.residual.resize(m + ns);
   L.residual.head(m) = L.basis.transpose() * scale_.cwiseProduct(dy);
-  L.mean_slow = vr.w / kT;
+  L.mean_q = vr.w / kT;
+  L.mean_slow.resize(ns);
+  Eigen::MatrixXd Wslow(ns, cols);
+  for (int k = 0; k < ns; ++k) {
+    L.mean_slow[k] = L.mean_q[problem_.slow[k]];
+    Wslow.row(k) = vr.W.row(problem_.slow[k]);
+  }
   if (ns > 0) L.residual.tail(ns) = L.mean_slow - problem_.hold;
+  // The orbit's amplitude in scaled coordinates: |S (y0 − ȳ)|, ȳ = (mean q, 0) (exact for a
+  // harmonic orbit: |q − q̄|² + |q̇/Ω|² = A²).
+  {
+    Eigen::VectorXd dev = x.y;
+    dev.head(n) -= L.mean_q;
+    L.amplitude = scale_.cwiseProduct(dev).norm();
+  }
   L.jacobian.resize(m + ns, m + ns);
   L.monodromy = L.basis.transpose() * SY.leftCols(m);
   L.jacobian.topLeftCorner(m, m) = L.monodromy - Eigen::MatrixXd::Identity(m, m);
   if (ns > 0) {
     L.jacobian.topRightCorner(m, ns) = L.basis.transpose() * SY.middleCols(m, ns);
-    L.jacobian.bottomLeftCorner(ns, m) = vr.W.leftCols(m) / kT;
-    L.jacobian.bottomRightCorner(ns, ns) = vr.W.middleCols(m, ns) / kT;
+    L.jacobian.bottomLeftCorner(ns, m) = Wslow.leftCols(m) / kT;
+    L.jacobian.bottomRightCorner(ns, ns) = Wslow.middleCols(m, ns) / kT;
     L.C_mean = vr.Cint / kT;
   }
   if (dp) {
@@ -253,7 +266,7 @@ Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative*
     L.dr_dp.head(m) = L.basis.transpose() * scale_.cwiseProduct(dyend - Y0.col(cols - 1));
     for (int k = 0; k < ns; ++k) {
       const int i = problem_.slow[k];
-      L.dr_dp[m + k] = vr.W(k, cols - 1) / kT + vr.y[i] * dkT / kT - vr.w[k] * dkT / (kT * kT) -
+      L.dr_dp[m + k] = Wslow(k, cols - 1) / kT + vr.y[i] * dkT / kT - vr.w[i] * dkT / (kT * kT) -
                        (dp->dhold.size() == ns ? dp->dhold[k] : 0.0);
     }
   }
@@ -385,10 +398,11 @@ OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
     res.residual = L.residual_norm;
     res.residual_max = L.residual_max;
     res.correction = corr;
-    // Converged: the correction is a small fraction of the integration tolerance; or it has
-    // stopped shrinking below the tolerance (the integration's own error limits it).
+    // Converged: the correction is a small fraction of the integration tolerance; or the
+    // residual is below the tolerance and the corrections have stopped shrinking (what is left
+    // is the integration's own error, amplified by the condition of monodromy − I).
     const bool small = corr <= options.newton_tol;
-    const bool stalled = corr <= 1.0 && prev_corr <= 1.0 && corr > 0.5 * prev_corr;
+    const bool stalled = L.residual_norm <= 1.0 && corr <= 10.0 && corr > 0.5 * prev_corr;
     if (small || stalled) {
       OrbitPoint next;
       if (!sh.advance(x, L, delta, 1.0, next, msg)) next = x;
@@ -440,7 +454,7 @@ OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
                     (Lt.ok ? std::string() : "; last trial: " + Lt.message);
       return res;
     }
-    prev_corr = corr * alpha;
+    prev_corr = corr;
     x = xt;
     L = std::move(Lt);
   }

@@ -31,6 +31,9 @@ struct OrbitProblem {
   /// generalized force (an unknown of the Newton system; docs/steady.md, "Slow coordinates").
   std::vector<int> slow;
   Eigen::VectorXd hold;
+  /// Ω of the scaled state S y = (q, q̇/Ω); 0: 2π/(periods T). Continuation fixes it along a
+  /// branch, so that the residual's scaling does not change with the parameter.
+  double velocity_scale = 0.0;
 };
 
 struct ShootingOptions {
@@ -78,7 +81,9 @@ struct Linearization {
   Eigen::VectorXd dr_dp;      ///< ∂r/∂p when a ParameterDerivative was given
   Eigen::MatrixXd monodromy;  ///< Bᵀ S Φ S⁻¹ B: the monodromy restricted to the manifold
   Eigen::VectorXd y_end;      ///< y(t0 + kT)
+  Eigen::VectorXd mean_q;     ///< the period means of every coordinate
   Eigen::VectorXd mean_slow;  ///< the period means of the slow coordinates
+  double amplitude = 0.0;     ///< |S (y(t0) − ȳ)|: the orbit's amplitude for a harmonic orbit
   Eigen::MatrixXd C_mean;     ///< period mean of the slow coordinates' constrained inverse mass
   double residual_norm = std::numeric_limits<double>::infinity();  ///< weighted RMS
   double residual_max = std::numeric_limits<double>::infinity();   ///< max |y(kT) − y(0)|
