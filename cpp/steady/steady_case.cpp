@@ -1,6 +1,7 @@
 // `pcsim steady` for a case (see steady_case.hpp).
 #include "steady/steady_case.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include "sim/client.hpp"
 #include "sim/run.hpp"
 #include "steady/forced_model.hpp"
+#include "steady/own_reaction_model.hpp"
 
 namespace pcsim::steady {
 
@@ -107,6 +109,23 @@ CaseOrbit::CaseOrbit(const sim::Case& c, int periods, std::string key)
     }
     held_.push_back(sname);
     slow_.push_back(i);
+  }
+  // Constraints the case added that hold a slow coordinate rigidly: their rows involve one.
+  if (const toml::table* added = c.table["constraints"]["added"].as_table()) {
+    for (const auto& [k, v] : *added) {
+      const int ci = model->constraint_index(std::string(k.str()));
+      if (ci < 0 || std::find(active_.begin(), active_.end(), ci) == active_.end()) continue;
+      Eigen::MatrixXd gr(1, n);
+      Eigen::VectorXd g0r(1), gar(1);
+      model->constraint_rows({ci}, 0.0, setup_.q0, setup_.qd0, gr, g0r, gar);
+      for (const auto& sname : c.model->slow_coordinates()) {
+        const int i = c.model->coordinate_index(sname);
+        if (i >= 0 && gr(0, i) != 0.0) {
+          holding_constraints_.push_back(ci);
+          break;
+        }
+      }
+    }
   }
   if (kind_ == KeyKind::held_value) {
     // Which held value (if any) the key moves; a key that moves none may still move the
@@ -203,7 +222,12 @@ nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
   ro.start = std::make_pair(Eigen::VectorXd(result.point.y.head(n)), Eigen::VectorXd(result.point.y.tail(n)));
   const std::vector<int> slow = p.slow;
   const Eigen::VectorXd H = result.point.H;
-  ro.wrap_model = [slow, H](std::shared_ptr<const mech::Model> m) { return with_forces(std::move(m), slow, H); };
+  const std::vector<int> active = orbit.active(), holding = orbit.holding_constraints();
+  ro.wrap_model = [slow, H, active, holding](std::shared_ptr<const mech::Model> m) {
+    m = with_forces(std::move(m), slow, H);
+    if (!holding.empty()) m = std::make_shared<const OwnReactionModel>(std::move(m), active, holding);
+    return m;
+  };
   ro.directory = dir;
   return sim::run_case(c, ro);
 }
@@ -241,6 +265,12 @@ nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const nl
   }
   j["slow"] = slow;
   j["slow_fixed_by_constraints"] = orbit.fixed_slow();
+  if (!orbit.holding_constraints().empty()) {
+    nlohmann::json names = nlohmann::json::array();
+    const auto model = orbit.problem().model;
+    for (int i : orbit.holding_constraints()) names.push_back(model->constraints()[i].name);
+    j["outputs_without_the_reactions_of"] = names;
+  }
   nlohmann::json mu = nlohmann::json::array();
   for (const auto& m : r.floquet.multipliers)
     mu.push_back({{"re", m.value.real()}, {"im", m.value.imag()}, {"modulus", m.modulus}, {"slow", m.slow}});

@@ -56,6 +56,10 @@ class CaseOrbit {
   const std::vector<std::string>& held() const { return held_; }
   /// Slow coordinates the active constraints already fix (not held again).
   const std::vector<std::string>& fixed_slow() const { return fixed_slow_; }
+  /// Constraints the case added ([constraints.added]) that hold a slow coordinate rigidly
+  /// (indices into the model's constraints): the outputs leave their reaction out.
+  const std::vector<int>& holding_constraints() const { return holding_constraints_; }
+  const std::vector<int>& active() const { return active_; }
 
  private:
   sim::ParameterValues parameters_at(double value) const;
@@ -72,6 +76,7 @@ class CaseOrbit {
   double base_value_;
   std::vector<int> active_, slow_;
   std::vector<std::string> held_, fixed_slow_;
+  std::vector<int> holding_constraints_;
 };
 
 /// The orbit's summary over one period: the case run from the periodic state for k T with the
