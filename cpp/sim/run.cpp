@@ -161,7 +161,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
 
   const double rows = std::floor(set.t_end / set.dt) + 2;
-  if (options.out_dir && !(rows <= kMaxOutputRows))
+  if ((options.out_dir || options.directory) && !(rows <= kMaxOutputRows))
     throw InputError(where + ": key 'output.dt': expected at most " +
                      format_number(kMaxOutputRows) + " time-series rows (solver.t_end / output.dt), "
                      "got " + format_significant(rows, 3) + " rows; raise output.dt");
@@ -234,7 +234,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   const double w1 = set.t_end;
 
   const int n_out = static_cast<int>(source.outputs().size());
-  Monitor mon(n, n_out, w0, w1, set.dt, set.t_end, out ? &csv : nullptr);
+  Monitor mon(n, n_out, w0, w1, set.dt, set.t_end, dir ? &csv : nullptr);
   std::unique_ptr<ClientMonitor> client_mon = c.client ? c.client->monitor(c, set) : nullptr;
 
   bool stopped_by_client = false;

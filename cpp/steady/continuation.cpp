@@ -113,7 +113,10 @@ Branch continue_branch(const std::function<OrbitProblem(double)>& problem_of,
     }
     nm.scale = L.scale;
   }
-  nm.Z = std::max(L.amplitude, 1e3 * o.shooting.atol);
+  // The state's scale in the arclength: three times the largest orbit amplitude met so far
+  // (steps then follow the parameter where the response is smooth, and bend with the branch
+  // at resonances and folds).
+  nm.Z = std::max(3 * L.amplitude, 1e3 * o.shooting.atol);
   Tangent tau;
   {
     Tangent start;
@@ -208,7 +211,7 @@ Branch continue_branch(const std::function<OrbitProblem(double)>& problem_of,
       continue;
     }
     // Accepted: the new tangent (direction continued), stability, folds.
-    nm.Z = std::max(nm.Z, Lc.amplitude);
+    nm.Z = std::max(nm.Z, 3 * Lc.amplitude);
     Tangent tn;
     if (!tangent_at(Lc, nm, tau, ns, tn)) {
       b.message = "the branch's tangent is undefined at " + format_significant(pc, 9) +

@@ -233,15 +233,31 @@ ResponseResult response_case(const sim::Case& c, const ResponseOptions& o) {
   for (std::size_t i = 0; i < res.points.size(); ++i)
     if (res.points[i].fold_before) folds.push_back({{"point", i}, {"at", res.points[i].fold_p}});
   meta["folds"] = folds;
+  // A resonance: a local maximum of a coordinate's amplitude along the branch that stands out
+  // (its prominence, the drop to the lower of the deepest values on either side before a higher
+  // point, is at least 1 % of it) and is not rounding noise (at least 1e-6 of the largest
+  // amplitude of any coordinate at that point: a constrained coordinate's amplitude is noise).
   nlohmann::json resonances = nlohmann::json::array();
   const int col_amp0 = 9;
+  const std::size_t nrows = res.rows.size();
+  std::vector<std::vector<double>> amp(coords.size(), std::vector<double>(nrows, NAN));
+  for (std::size_t q = 0; q < coords.size(); ++q)
+    for (std::size_t i = 0; i < nrows; ++i)
+      if (!res.rows[i][col_amp0 + q].empty()) amp[q][i] = std::stod(res.rows[i][col_amp0 + q]);
   for (std::size_t q = 0; q < coords.size(); ++q) {
-    std::vector<double> a(res.rows.size(), NAN);
-    for (std::size_t i = 0; i < res.rows.size(); ++i)
-      if (!res.rows[i][col_amp0 + q].empty()) a[i] = std::stod(res.rows[i][col_amp0 + q]);
-    for (std::size_t i = 1; i + 1 < a.size(); ++i)
-      if (a[i] > a[i - 1] && a[i] > a[i + 1] && a[i] > 0)
-        resonances.push_back({{"coordinate", coords[q]}, {"point", i}, {"at", res.points[i].p}, {"amplitude", a[i]}});
+    const auto& a = amp[q];
+    for (std::size_t i = 1; i + 1 < nrows; ++i) {
+      if (!(a[i] > a[i - 1] && a[i] > a[i + 1])) continue;
+      double largest = 0;
+      for (std::size_t r = 0; r < coords.size(); ++r)
+        if (std::isfinite(amp[r][i])) largest = std::max(largest, amp[r][i]);
+      if (!(a[i] >= 1e-6 * largest)) continue;
+      double left = a[i], right = a[i];
+      for (std::size_t j = i; j-- > 0 && !(a[j] > a[i]);) left = std::min(left, a[j]);
+      for (std::size_t j = i + 1; j < nrows && !(a[j] > a[i]); ++j) right = std::min(right, a[j]);
+      if (a[i] - std::max(left, right) < 0.01 * a[i]) continue;
+      resonances.push_back({{"coordinate", coords[q]}, {"point", i}, {"at", res.points[i].p}, {"amplitude", a[i]}});
+    }
   }
   meta["resonances"] = resonances;
   auto it = std::find(res.columns.begin(), res.columns.end(), "contact_margin");

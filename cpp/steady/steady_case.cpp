@@ -216,6 +216,9 @@ nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
   solver.insert_or_assign("t_end", kT);
   toml::table& output = *c.table["output"].as_table();
   output.erase("summary_time");
+  // At least 200 time-series rows per orbit period (a case's dt is often set for long runs).
+  const double dt = output["dt"].value_or(1e-3);
+  if (dt > kT / 200) output.insert_or_assign("dt", kT / 200);
   output.insert_or_assign("summary_periods", int64_t{p.periods});
   const int n = static_cast<int>(result.point.y.size() / 2);
   sim::RunOptions ro;
