@@ -25,6 +25,7 @@ struct SteadyArgs {
   int periods = 1;
   std::string method = "auto";
   int max_iterations = 30;
+  int transient_periods = 256;
 };
 
 void run(const SteadyArgs& a) {
@@ -43,6 +44,8 @@ void run(const SteadyArgs& a) {
   o.periods = a.periods;
   o.method = *method;
   o.max_iterations = a.max_iterations;
+  if (a.transient_periods < 0) throw pcsim::InputError("--transient-periods: expected an integer >= 0");
+  o.max_transient_periods = a.transient_periods;
   o.out_dir = a.out_dir.empty() ? std::filesystem::path("out") / (c.name + "-steady")
                                 : std::filesystem::path(a.out_dir);
   const nlohmann::json s = pcsim::steady::steady_case(c, o);
@@ -75,6 +78,10 @@ void setup(CLI::App& app) {
                   "explicit or radau")
       ->type_name("auto|explicit|radau");
   sub->add_option("--max-iterations", args->max_iterations, "Newton iterations before giving up (30)")
+      ->type_name("N");
+  sub->add_option("--transient-periods", args->transient_periods,
+                  "when Newton fails from the start: integrate up to this many orbit periods "
+                  "(8, 16, 32, ...) and try again from there (256; 0: never)")
       ->type_name("N");
   sub->callback([args]() { run(*args); });
 }

@@ -349,8 +349,10 @@ Floquet Shooter::floquet(const Linearization& L) const {
   return F;
 }
 
-OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
-                       const ShootingOptions& options) {
+namespace {
+
+OrbitResult newton_shooting(const OrbitProblem& problem, const OrbitPoint& guess,
+                            const ShootingOptions& options) {
   Shooter sh(problem, options);
   OrbitResult res;
   OrbitPoint x = guess;
@@ -462,6 +464,66 @@ OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
   const int ns = static_cast<int>(problem.slow.size());
   if (ns > 0 && res.last.C_mean.rows() == ns) res.drift_acceleration = -res.last.C_mean * res.point.H;
   return res;
+}
+
+}  // namespace
+
+OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
+                       const ShootingOptions& options) {
+  OrbitResult r = newton_shooting(problem, guess, options);
+  if (r.converged || options.max_transient_periods <= 0) return r;
+  // Newton from the guess failed: let the transient decay (a stable orbit attracts it) over
+  // 8, 16, 32, ... orbit periods and try again from there.
+  const std::string first = r.message;
+  long integrations = r.integrations, steps = r.steps, f_evals = r.f_evals;
+  OrbitPoint x = guess;
+  int total = 0;
+  const int n = problem.model->n();
+  const double kT = problem.periods * problem.period;
+  for (int chunk = 8; total + chunk <= options.max_transient_periods; chunk *= 2) {
+    Shooter sh(problem, options);
+    std::string msg;
+    if (!sh.project(x, msg)) break;
+    const auto model = with_forces(problem.model, problem.slow, x.H);
+    VariationalSetup vs;
+    vs.model = model.get();
+    vs.active = problem.active;
+    for (int i = 0; i < n; ++i) vs.quadrature.push_back(i);
+    VariationalOptions vo;
+    vo.method = options.method;
+    vo.kernel = options.kernel;
+    vo.rtol = options.rtol;
+    vo.atol = options.atol;
+    vo.max_steps = options.max_steps;
+    // Whole orbit periods, ending at the phase t0 (the model is kT-periodic in t).
+    const VariationalResult vr = integrate_variational(vs, problem.t0, problem.t0 + chunk * kT, x.y,
+                                                       Eigen::MatrixXd(2 * n, 0), vo);
+    ++integrations;
+    steps += vr.steps;
+    f_evals += vr.f_evals;
+    if (vr.status != OdeStatus::success) break;
+    total += chunk;
+    x.y = vr.y;
+    // A held slow coordinate drifts during the transient: put its mean back to the held value.
+    for (std::size_t k = 0; k < problem.slow.size(); ++k)
+      x.y[problem.slow[k]] += problem.hold[k] - vr.w[problem.slow[k]] / (chunk * kT);
+    r = newton_shooting(problem, x, options);
+    integrations += r.integrations;
+    steps += r.steps;
+    f_evals += r.f_evals;
+    if (r.converged) break;
+  }
+  r.integrations = integrations;
+  r.steps = steps;
+  r.f_evals = f_evals;
+  r.transient_periods = total;
+  if (!r.converged)
+    r.message = first + "; after " + std::to_string(total) + " periods of transient integration: " + r.message;
+  else if (total > 0)
+    r.message = "Newton converged after " + std::to_string(total) +
+                " orbit periods of transient integration from the start (from the start itself: " +
+                first + ")" + (r.message.empty() ? "" : "; " + r.message);
+  return r;
 }
 
 }  // namespace pcsim::steady

@@ -46,6 +46,10 @@ struct ShootingOptions {
   /// 1/(atol + rtol |y_i|)), is below this: a hundredth of the integration tolerance.
   double newton_tol = 1e-2;
   int max_halvings = 8;     ///< line search: step halvings before giving up
+  /// When Newton fails from the guess (far from a strongly nonlinear orbit), integrate the
+  /// system over 8, 16, 32, ... orbit periods from the guess (a stable orbit attracts the
+  /// transient) and start Newton again from the end, up to this many periods in all (0: never).
+  int max_transient_periods = 256;
   double projection_tol = 1e-13;
   bool control_sensitivities = true;  ///< the sensitivities under the integrator's error control
 };
@@ -126,6 +130,7 @@ struct OrbitResult {
   Eigen::VectorXd drift_acceleration;  ///< −C̄ H: the slow coordinates' acceleration when let go
   long integrations = 0, steps = 0, f_evals = 0;
   bool used_explicit = false, used_radau = false;
+  int transient_periods = 0;  ///< orbit periods integrated before the Newton that converged
 };
 
 class Shooter {
@@ -168,8 +173,10 @@ class Shooter {
 };
 
 /// Newton shooting from `guess` (projected first): damped Newton with a line search on the
-/// weighted residual. Never throws for numerical trouble (converged = false and the message
-/// say what was reached); throws std::invalid_argument for a model without tangents.
+/// weighted residual; if it fails, again from the end of a transient integration (see
+/// ShootingOptions::max_transient_periods). Never throws for numerical trouble (converged =
+/// false and the message say what was reached); throws std::invalid_argument for a model
+/// without tangents.
 OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
                        const ShootingOptions& options);
 

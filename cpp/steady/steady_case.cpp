@@ -295,6 +295,7 @@ nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const nl
                  {"residual_max", r.residual_max},
                  {"correction", r.correction},
                  {"note", r.message},
+                 {"transient_periods", r.transient_periods},
                  {"norm", "weighted RMS, weights 1/(atol + rtol |y_i|): 1 = the integration tolerance"},
                  {"history", hist}};
   j["shooting"] = {{"integrations", r.integrations},
@@ -323,6 +324,7 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
   ShootingOptions so = shooting_options(orbit.setup(), options.method);
   so.max_iterations = options.max_iterations;
   so.newton_tol = options.newton_tol;
+  so.max_transient_periods = options.max_transient_periods;
   const auto t_start = std::chrono::steady_clock::now();
   const OrbitResult r = find_orbit(orbit.problem(), orbit.guess(), so);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -357,8 +359,10 @@ std::string steady_report(const sim::Case& c, const nlohmann::json& s) {
      << (k == 1 ? std::string("one excitation period") : std::to_string(k) + " excitation periods")
      << ")\n";
   const auto& nw = s["newton"];
-  os << "  Newton shooting from the case's " << (s["start"] == "equilibrium" ? "static equilibrium" : "initial state")
-     << ": " << nw["iterations"].get<int>() << " iterations; residual "
+  os << "  Newton shooting from the case's " << (s["start"] == "equilibrium" ? "static equilibrium" : "initial state");
+  if (nw.value("transient_periods", 0) > 0)
+    os << " after " << nw["transient_periods"].get<int>() << " periods of transient integration";
+  os << ": " << nw["iterations"].get<int>() << " iterations; residual "
      << f(nw["residual"].get<double>(), 3) << " of the integration tolerance (max |y(kT) - y(0)| = "
      << f(nw["residual_max"].get<double>(), 3) << "), last correction " << f(nw["correction"].get<double>(), 3)
      << "\n";

@@ -27,6 +27,7 @@ struct SteadyOptions {
   OdeMethod method = OdeMethod::automatic;  ///< the integrator of the shooting
   int max_iterations = 30;
   double newton_tol = 1e-2;
+  int max_transient_periods = 256;  ///< ShootingOptions::max_transient_periods
   /// Skip the period summary (the continuation's inner points need only the orbit).
   bool summary = true;
 };
