@@ -1,49 +1,81 @@
-// Benchmark: the sieve_1995 case (10 s of motion) for each kernel x form on the default path
-// (the AD-derived closed form (3.4)), plus the AD-derived geometric form and the hand-derived
-// analytic fast path as extra rows, side by side in one process, printed as ratios to the
-// first (fortran, ode, closed_form); plus what bounds it: steps,
-// f-evaluations, the cost of one f-evaluation (M, h, Q, constraint rows and the reaction solve
-// at one state), and the share of the summary's dense-output sampling.
+// Benchmark of the README's main job (issue 14): the paper's case (cases/sieve_1995.toml, 10 s
+// of motion, time series and summary written) on today's default path against the path of the
+// first release, in one process, as a ratio; with the accuracy of each path's summary against a
+// reference run at rtol 1e-11, and the rows that show where the time went.
 //
-// Usage: bench_sieve [CASE.toml] [repeats]   (default cases/sieve_1995.toml, 3)
-// Times are thread CPU times (the machine is shared; wall time is inflated by preemption),
-// the minimum over the repeats.
+// Usage: bench_sieve [CASE.toml] [repeats]   (default cases/sieve_1995.toml, 5)
+//
+// Each row is the whole computation of `pcsim run` after the process started: loading and
+// validating the case, building the model, integrating, the summary, and writing both output
+// files (into a temporary directory). Times: wall clock and process CPU (the time-series writer
+// runs on a thread of its own), the minimum over the repeats.
+//   release  the first release's path: the C++ closed form (3.4) through the engine's automatic
+//            differentiation, Radau with LAPACK's LU on the full system, the dense compatibility
+//            solve ([G; D^T] R = [-G0; 0] with Huang's D)  (variant closed_form, solver.method =
+//            radau, solver.linear_algebra = lapack)
+//   default  today's default: the model file (derived at build time, its tape compiled to native
+//            code for the built-in models), solver.method =
+//            auto (the explicit Dormand-Prince 8(5,3) pair on this case), the structured
+//            reaction solve, the time series formatted on its own thread
+// and two rows between them (the default with Radau; the C++ closed form with the default
+// integrator) that separate the gains.
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <vector>
 
-#include "mech/simulation.hpp"
-#include "sim/case.hpp"
 #include "sieve/source.hpp"
-#include "sieve/model.hpp"
+#include "sim/case.hpp"
 #include "sim/run.hpp"
-#include "sieve/settings.hpp"
 
 using namespace pcsim;
-using namespace pcsim::sieve;
 using namespace pcsim::sim;
+namespace fs = std::filesystem;
 
 namespace {
 
 double cpu_now() {
   timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
+double wall_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
-template <class F> double min_time(int repeats, F&& f) {
-  double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const double t0 = cpu_now();
-    f();
-    best = std::min(best, cpu_now() - t0);
+struct Config {
+  const char* label;
+  std::vector<Override> overrides;
+  std::string variant;
+};
+
+struct Row {
+  double wall = 1e300, cpu = 1e300;
+  nlohmann::json summary;
+};
+
+double max_rel_error(const nlohmann::json& s, const nlohmann::json& ref, std::string* which) {
+  // The summary values of the sieve's contract that are results (not statistics).
+  const char* keys[] = {"/amplitude/x", "/amplitude/y", "/amplitude/theta", "/theta_mean",
+                        "/theta_max_abs", "/R_u_min", "/R_u_max", "/fstar_max"};
+  double worst = 0.0;
+  for (const char* k : keys) {
+    const nlohmann::json::json_pointer p(k);
+    const double a = s.at(p).get<double>(), b = ref.at(p).get<double>();
+    const double e = std::abs(a - b) / std::abs(b);
+    if (e > worst) {
+      worst = e;
+      *which = k + 1;
+    }
   }
-  return best;
+  return worst;
 }
 
 }  // namespace
@@ -51,125 +83,57 @@ template <class F> double min_time(int repeats, F&& f) {
 int main(int argc, char** argv) {
   const std::string file =
       argc > 1 ? argv[1] : std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml";
-  const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
+  const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
   pcsim::sieve::register_sieve();
-  const Case base = load_case(file);
-  std::printf("bench_sieve: %s, t_end = %g s, best of %d (thread CPU time)\n\n", file.c_str(),
-              settings_from_case(base).solver.t_end, repeats);
+  const fs::path out = fs::temp_directory_path() / ("pcsim_bench_sieve_" + std::to_string(::getpid()));
 
-  // Cost of one f-evaluation's mechanics: M, h, Q, g, γ and the compatibility solve for R.
-  {
-    const SieveSettings set = settings_from_case(base);
-    std::printf("cost of one reaction evaluation (M, h, Q, g, R; ~ one ODE-form f):\n");
-    for (ModelForm mf : {ModelForm::closed_form, ModelForm::geometric, ModelForm::analytic}) {
-      const auto model = make_sieve_model(set, mf);
-      Eigen::VectorXd q(6), qd(6);
-      for (int i = 0; i < 6; ++i) { q(i) = set.q0[i]; qd(i) = 0.01 * (i + 1); }
-      const auto active = active_constraints(set.constraints);
-      for (Kernel k : {Kernel::fortran, Kernel::cpp}) {
-        const int n = 20000;
-        double sink = 0;
-        const double t = min_time(repeats, [&] {
-          for (int i = 0; i < n; ++i)
-            sink += mech::reactions(*model, active, 1e-4 * i, q, qd,
-                                    mech::ReactionMethod::compatibility, k).R(4);
-        });
-        Eigen::MatrixXd M(6, 6);
-        Eigen::VectorXd h(6), Q(6);
-        const double tk = min_time(repeats, [&] {
-          for (int i = 0; i < n; ++i) {
-            model->kinetic_terms(1e-4 * i, q, qd, M, h);
-            model->forces(1e-4 * i, q, qd, Q);
-            sink += h(0) + Q(0);
-          }
-        });
-        std::vector<int> idx;
-        for (const std::string& name : active)
-          for (std::size_t i = 0; i < model->constraints().size(); ++i)
-            if (model->constraints()[i].name == name) idx.push_back(static_cast<int>(i));
-        const auto ns = static_cast<Eigen::Index>(idx.size());
-        Eigen::MatrixXd g(ns, 6);
-        Eigen::VectorXd g0(ns), gam(ns);
-        const double tm = min_time(repeats, [&] {
-          for (int i = 0; i < n; ++i) {
-            model->kinetic_terms(1e-4 * i, q, qd, M, h);
-            sink += h(0);
-          }
-        });
-        const double tg = min_time(repeats, [&] {
-          for (int i = 0; i < n; ++i) {
-            model->constraint_rows(idx, 1e-4 * i, q, qd, g, g0, gam);
-            sink += gam(0);
-          }
-        });
-        std::printf("  %-11s model, %-7s kernel: %7.2f us per evaluation; model: M, h %6.2f us, "
-                    "Q %5.2f us, g, gamma %5.2f us; engine %5.2f us\n",
-                    to_string(mf), to_string(k), 1e6 * t / n, 1e6 * tm / n,
-                    1e6 * (tk - tm) / n, 1e6 * tg / n, 1e6 * (t - tk - tg) / n);
-        if (!std::isfinite(sink)) std::printf("  (non-finite results)\n");
-      }
+  // The reference: the same case at rtol 1e-11 (Radau, default path).
+  const nlohmann::json ref = run_case(load_case(file, {{"solver.rtol", "1e-11"},
+                                                       {"solver.atol", "1e-13"},
+                                                       {"solver.method", "radau"}}));
+  const std::vector<Config> configs = {
+      {"release path (AD closed form, Radau, LAPACK, dense solve)",
+       {{"solver.method", "radau"}, {"solver.linear_algebra", "lapack"}},
+       "closed_form"},
+      {"C++ AD closed form, default integrator", {}, "closed_form"},
+      {"default with Radau (model-file tape, own LU, M1/M2)", {{"solver.method", "radau"}}, ""},
+      {"default (model-file tape, auto = explicit 8(5,3))", {}, ""},
+  };
+  std::vector<Row> rows(configs.size());
+  for (int r = 0; r < repeats; ++r) {
+    for (std::size_t c = 0; c < configs.size(); ++c) {  // interleaved: load drifts hit all rows
+      const double w0 = wall_now(), c0 = cpu_now();
+      const Case cs = load_case(file, configs[c].overrides);
+      RunOptions o;
+      o.out_dir = out;
+      o.variant = configs[c].variant;
+      nlohmann::json s = run_case(cs, o);
+      const double w = wall_now() - w0, cp = cpu_now() - c0;
+      rows[c].wall = std::min(rows[c].wall, w);
+      rows[c].cpu = std::min(rows[c].cpu, cp);
+      rows[c].summary = std::move(s);
     }
   }
+  std::error_code ec;
+  fs::remove_all(out, ec);
 
-  struct Row {
-    std::string label;
-    double run = 0, sim = 0;
-    long steps = 0, f = 0, lu = 0;
-  };
-  struct Config {
-    Kernel k;
-    Form fm;
-    ModelForm mf;
-  };
-  std::vector<Config> configs;
-  const ModelForm def = ModelForm::closed_form;  // the default path: AD closed form
-  for (Kernel k : {Kernel::fortran, Kernel::cpp})
-    for (Form fm : {Form::ode, Form::dae}) configs.push_back({k, fm, def});
-  configs.push_back({Kernel::fortran, Form::ode, ModelForm::geometric});
-  configs.push_back({Kernel::fortran, Form::ode, ModelForm::analytic});
-  configs.push_back({Kernel::cpp, Form::ode, ModelForm::analytic});
-  std::vector<Row> rows;
-  for (const Config& cf : configs) {
-    {
-      const Kernel k = cf.k;
-      const Form fm = cf.fm;
-      Case c = base;
-      set_value(c, {"solver.kernel", to_string(k)});
-      set_value(c, {"solver.form", to_string(fm)});
-      Row r;
-      r.label = std::string(to_string(k)) + " / " + to_string(fm) + " / " + to_string(cf.mf);
-      RunOptions ro;
-      ro.variant = to_string(cf.mf);
-      nlohmann::json s;
-      r.run = min_time(repeats, [&] { s = run_case(c, ro); });
-      r.steps = s["stats"]["steps"];
-      r.f = s["stats"]["f_evals"];
-      r.lu = s["stats"]["lu_decompositions"];
-      // The bare integration, without the summary's dense-output sampling.
-      const SieveSettings set = settings_from_case(c);
-      const auto model = make_sieve_model(set, cf.mf);
-      mech::SimulationOptions so;
-      so.kernel = k;
-      so.form = fm;
-      so.t_end = set.solver.t_end;
-      so.rtol = set.solver.rtol;
-      so.atol = set.solver.atol;
-      so.active_constraints = active_constraints(set.constraints);
-      Eigen::VectorXd q0(6), qd0(6);
-      for (int i = 0; i < 6; ++i) { q0(i) = set.q0[i]; qd0(i) = set.qd0[i]; }
-      r.sim = min_time(repeats, [&] { mech::simulate(*model, q0, qd0, so); });
-      rows.push_back(r);
-    }
+  std::printf("bench_sieve: %s, %d repeats (minimum), whole run_case with both output files\n\n",
+              file.c_str(), repeats);
+  std::printf("| path | wall [ms] | CPU [ms] | release / this (wall) | steps | f-evals | max rel. error vs rtol 1e-11 |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---|\n");
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    std::string which;
+    const double err = max_rel_error(rows[c].summary, ref, &which);
+    std::printf("| %s | %.1f | %.1f | %.2f | %ld | %ld | %.1e (%s) |\n", configs[c].label,
+                1e3 * rows[c].wall, 1e3 * rows[c].cpu, rows[0].wall / rows[c].wall,
+                rows[c].summary["stats"]["steps"].get<long>(),
+                rows[c].summary["stats"]["f_evals"].get<long>(), err, which.c_str());
   }
-  std::printf("\n%-30s %9s %8s %9s %7s %10s %9s %10s %8s\n", "kernel / form / model", "run [s]", "ratio",
-              "steps", "LU", "f-evals", "us per f", "simulate", "summary");
-  for (const Row& r : rows)
-    std::printf("%-30s %9.3f %8.2f %9ld %7ld %10ld %9.2f %9.3fs %7.0f%%\n", r.label.c_str(), r.run,
-                r.run / rows[0].run, r.steps, r.lu, r.f, 1e6 * r.sim / r.f, r.sim,
-                100 * (r.run - r.sim) / r.run);
-  std::printf("\nratio: run time / (fortran / ode / closed_form, the default path). 'us per f': simulate time / f-evaluations "
-              "(all integrator work included). 'summary': share of run_case spent outside the "
-              "bare integration (dense-output sampling of the verdicts and window extremes).\n");
-  std::printf("target: < 0.2 s per case on one core\n");
+  const bool same_verdicts = rows.back().summary["contact_kept"] == rows[0].summary["contact_kept"] &&
+                             rows.back().summary["rolling_kept"] == rows[0].summary["rolling_kept"];
+  std::printf("\nspeed-up of the default path over the release path: %.1fx (wall), %.1fx (CPU); "
+              "verdicts %s\n",
+              rows[0].wall / rows.back().wall, rows[0].cpu / rows.back().cpu,
+              same_verdicts ? "identical" : "DIFFERENT");
   return 0;
 }

@@ -20,3 +20,11 @@ foreach(t test_modelfile_sieve bench_modelfile)
     target_link_libraries(${t} PRIVATE pcsim_sieve)
   endif()
 endforeach()
+
+# The LeakSanitizer suppressions for CLN/GiNaC (cpp/modelfile/expression.cpp) must be in every
+# sanitized program that links them, also those that never call the parser (the built-in models
+# are precompiled): pull the defining object in by naming the symbol as undefined.
+if(PCSIM_SANITIZE)
+  target_link_options(pcsim_modelfile INTERFACE
+    "$<$<CONFIG:Debug>:LINKER:--undefined=__lsan_default_suppressions>")
+endif()

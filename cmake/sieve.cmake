@@ -37,3 +37,11 @@ endforeach()
 # Erratum 7: that the printed rolling sign reproduces the references made before the erratum,
 # bit for bit, is a Boost test (test_sieve_rolling): it needs the C++ closed-form model variant
 # of that path, which is not a case key.
+
+# Results independent of the system BLAS's threading and core type (issue 14).
+add_test(NAME blas_independence
+  COMMAND ${CMAKE_COMMAND}
+    -DPCSIM=$<TARGET_FILE:pcsim> -DCOMPARE=$<TARGET_FILE:sieve_compare_summary>
+    -DCASE=${PROJECT_SOURCE_DIR}/cases/sieve_1995.toml
+    -DOUT=${CMAKE_BINARY_DIR}/test-scratch/blas_independence
+    -P ${PROJECT_SOURCE_DIR}/tests/sim/blas_independence.cmake)

@@ -17,10 +17,18 @@ add_custom_command(OUTPUT "${_embedded_cpp}"
           -DMODELS=${_embedded_list} -P ${PROJECT_SOURCE_DIR}/cmake/embed_models.cmake
   DEPENDS ${_embedded_deps} ${PROJECT_SOURCE_DIR}/cmake/embed_models.cmake
   COMMENT "embedding the built-in model files")
+# Their compiled models, derived at build time (start-up then skips the symbolic derivation).
+add_executable(precompile_models tools/precompile_models.cpp)
+target_link_libraries(precompile_models PRIVATE pcsim_modelfile)
+set(_tapes_cpp "${CMAKE_BINARY_DIR}/generated/embedded_tapes.cpp")
+add_custom_command(OUTPUT "${_tapes_cpp}"
+  COMMAND ${CMAKE_COMMAND} -E env ASAN_OPTIONS=detect_leaks=0 $<TARGET_FILE:precompile_models> "${_tapes_cpp}" ${_embedded_deps}
+  DEPENDS precompile_models ${_embedded_deps}
+  COMMENT "deriving the built-in model files")
 pcsim_component(NAME sim
   CXX   cpp/sim/*.cpp
   LINKS pcsim_modelfile pcsim_mech tomlplusplus::tomlplusplus nlohmann_json::nlohmann_json)
-target_sources(pcsim_sim PRIVATE "${_embedded_cpp}")
+target_sources(pcsim_sim PRIVATE "${_embedded_cpp}" "${_tapes_cpp}")
 pcsim_boost_tests(DIR tests/sim LINKS pcsim_sim)
 
 # The CLI tests call the pcsim executable (defined later; generator expressions resolve at

@@ -2,24 +2,22 @@
 
 #include <algorithm>
 #include <atomic>
+#include <type_traits>
 #include <cmath>
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
+#include "common/format.hpp"
 #include "linalg/huang.hpp"
+#include "mech/detail/small_dense.hpp"
 
 namespace pcsim::mech {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return format_significant(v, 6); }
 
 }  // namespace
 
@@ -63,6 +61,8 @@ Dynamics::Dynamics(const Model& model, Kernel kernel, Stabilization stabilizatio
       lu_(model.n()) {
   M.resize(n_, n_);
   A.resize(n_, n_);
+  L_.resize(n_, n_);
+  inv_.resize(n_);
   h.resize(n_);
   Q.resize(n_);
   f.resize(n_);
@@ -84,6 +84,7 @@ void Dynamics::resize_for(int s) {
   G0.resize(s_);
   MinvgT_.resize(n_, s_);
   S_.resize(s_, s_);
+  inv_s_.resize(s_);
   lambda.resize(s_);
 }
 
@@ -224,37 +225,106 @@ ModelIssue Dynamics::solve_compatibility() {
   return ModelIssue::none;
 }
 
+// The structured solve on raw storage; N > 0 fixes n at compile time (unrolled loops for the
+// common small models), N = 0 takes n at run time.
+template <int N, int NS>
+bool Dynamics::structured_kernel() {
+  const int n = N > 0 ? N : n_, s = NS >= 0 ? NS : s_;
+  const double* gp = g.data();  // s x n, column-major: g(r, k) = gp[r + k s]
+  double* L = L_.data();
+  const double* Mp = M.data();
+  PCSIM_UNROLL
+  for (int k = 0; k < n * n; ++k) L[k] = Mp[k];
+  if (!detail::cholesky_upper<N>(L, n, n, 1e-13, inv_.data())) return false;
+  double* a0 = a0_.data();
+  const double* fp = f.data();
+  PCSIM_UNROLL
+  for (int k = 0; k < n; ++k) a0[k] = fp[k];
+  detail::cholesky_solve<N>(L, inv_.data(), n, n, a0);
+  double* W = MinvgT_.data();  // n x s: column r = M⁻¹ g_rᵀ
+  PCSIM_UNROLL
+  for (int r = 0; r < s; ++r) {
+    double* w = W + static_cast<std::ptrdiff_t>(r) * n;
+    PCSIM_UNROLL
+    for (int k = 0; k < n; ++k) w[k] = gp[r + k * s];
+    detail::cholesky_solve<N>(L, inv_.data(), n, n, w);
+  }
+  double* S = S_.data();
+  PCSIM_UNROLL
+  for (int i = 0; i < s; ++i) {
+    double v = gamma[i];
+    PCSIM_UNROLL
+    for (int k = 0; k < n; ++k) v += gp[i + k * s] * a0[k];
+    G0[i] = v;
+    PCSIM_UNROLL
+    for (int j = 0; j <= i; ++j) {
+      const double* w = W + static_cast<std::ptrdiff_t>(j) * n;
+      double sij = 0.0;
+      PCSIM_UNROLL
+      for (int k = 0; k < n; ++k) sij += gp[i + k * s] * w[k];
+      S[j + i * s] = sij;  // the upper triangle (j <= i), as cholesky_upper reads
+    }
+  }
+  singular_s_ = !detail::cholesky_upper<(NS > 0 ? NS : 0)>(S, s, s, 1e-13, inv_s_.data());
+  if (singular_s_) return true;
+  double* lam = lambda.data();
+  PCSIM_UNROLL
+  for (int i = 0; i < s; ++i) lam[i] = -G0[i];
+  detail::cholesky_solve<(NS > 0 ? NS : 0)>(S, inv_s_.data(), s, s, lam);
+  PCSIM_UNROLL
+  for (int k = 0; k < n; ++k) {
+    double rk = 0.0, ak = a0[k];
+    PCSIM_UNROLL
+    for (int r = 0; r < s; ++r) {
+      rk += gp[r + k * s] * lam[r];
+      ak += W[k + r * n] * lam[r];
+    }
+    R[k] = rk;
+    qdd[k] = ak;
+  }
+  return true;
+}
+
 ModelIssue Dynamics::solve_compatibility_structured() {
   // [G; Dᵀ] R = [−G0; 0] with the columns of D spanning null(g): Dᵀ R = 0 says R is orthogonal
   // to null(g), i.e. R = gᵀ λ for some λ, and then G R = g M⁻¹ gᵀ λ = −G0. The same R as the
-  // dense solve, without forming D (test_reactions proves the two equal).
-  if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
-  a0_ = llt_.solve(f);
+  // dense solve, without forming D (test_reactions proves the two equal). The small SPD
+  // systems are factored and solved by the loops of detail/small_dense.hpp (the hot path).
   if (s_ == 0) {
-    R.setZero();
-    qdd = a0_;
-    return ModelIssue::none;
+    // No constraint: q̈ = M⁻¹ f.
   }
-  MinvgT_ = llt_.solve(g.transpose());
-  G0.noalias() = g * a0_;
-  G0 += gamma;
-  S_.noalias() = g * MinvgT_;
-  llt_s_.compute(S_);
-  bool ok = llt_s_.info() == Eigen::Success;
-  if (ok) {
-    const auto d = llt_s_.matrixLLT().diagonal().cwiseAbs2();
-    ok = d.minCoeff() > 1e-13 * d.maxCoeff();  // rank-deficient g: dependent constraints
+  // Compile-time sizes for the common small models (the loops unroll), run-time otherwise.
+  bool ok;
+  auto by_s = [this](auto n_tag) {
+    constexpr int N = decltype(n_tag)::value;
+    switch (s_) {
+      case 1: return structured_kernel<N, 1>();
+      case 2: return structured_kernel<N, 2>();
+      case 3: return structured_kernel<N, 3>();
+      default: return structured_kernel<N, -1>();
+    }
+  };
+  switch (n_) {
+    case 2: ok = by_s(std::integral_constant<int, 2>{}); break;
+    case 3: ok = by_s(std::integral_constant<int, 3>{}); break;
+    case 4: ok = by_s(std::integral_constant<int, 4>{}); break;
+    case 5: ok = by_s(std::integral_constant<int, 5>{}); break;
+    case 6: ok = by_s(std::integral_constant<int, 6>{}); break;
+    default: ok = structured_kernel<0, -1>(); break;
   }
   if (!ok) {
+    factorize_mass();  // the same criterion; it writes the message naming the coordinates
+    return fail(ModelIssue::singular_mass_matrix, message_);
+  }
+  if (singular_s_) {
     return fail(ModelIssue::dependent_constraints,
                 "the active constraints are linearly dependent at t = " + fmt(t_) +
                     " (g M^-1 g^T is singular); check_model names them");
   }
-  lambda = llt_s_.solve(G0);
-  lambda = -lambda;
-  R.noalias() = g.transpose() * lambda;
-  qdd = a0_;
-  qdd.noalias() += MinvgT_ * lambda;
+  if (s_ == 0) {
+    R.setZero();
+    qdd = a0_;
+  }
   return ModelIssue::none;
 }
 

@@ -85,6 +85,8 @@ class Dynamics {
   ModelIssue null_basis();
   ModelIssue solve_compatibility();
   ModelIssue solve_compatibility_structured();
+  template <int N, int NS> bool structured_kernel();
+  bool singular_s_ = false;
   ModelIssue solve_kkt();
   ModelIssue solve_udwadia_kalaba();
   void resize_for(int s);
@@ -100,7 +102,9 @@ class Dynamics {
   std::string message_;
 
   Eigen::LLT<Eigen::MatrixXd> llt_, llt_s_;
-  Eigen::MatrixXd S_;       // g M⁻¹ gᵀ (s x s)
+  Eigen::MatrixXd S_;       // g M⁻¹ gᵀ (s x s), then its Cholesky factor
+  Eigen::MatrixXd L_;       // the Cholesky factor of M (structured solve)
+  Eigen::VectorXd inv_, inv_s_;  // 1 / diagonal of the factors of M and of S
   void lambda_from_R();     // λ from R = gᵀ λ (the dense methods)
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::MatrixXd MinvgT_;  // M⁻¹ gᵀ (n x s)

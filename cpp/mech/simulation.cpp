@@ -31,6 +31,7 @@ class Run {
         method_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack
                     ? ReactionMethod::compatibility
                     : opt.reaction_method),
+        legacy_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack),
         q_(n_),
         qd_(n_),
         a_(n_),
@@ -130,14 +131,40 @@ class Run {
   }
 
   // Residuals of the current state; updates the maxima.
-  void track_residuals(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  // Residuals of a state (max |Φ| over the active holonomic constraints, max |g q̇ + g0|).
+  void residuals(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double& pos,
+                 double& vel) {
+    pos = vel = 0.0;
     if (s_ == 0) return;
     pw_.g.resize(s_, n_);
     pw_.g0.resize(s_);
     pw_.gamma.resize(s_);
     model_.constraint_rows(active_, t, q, qd, pw_.g, pw_.g0, pw_.gamma);
-    res_pos_max_ = std::max(res_pos_max_, dyn_.position_residual(t, q));
-    res_vel_max_ = std::max(res_vel_max_, (pw_.g * qd + pw_.g0).cwiseAbs().maxCoeff());
+    for (int i : active_)
+      if (model_.constraints()[i].kind == ConstraintKind::holonomic)
+        pos = std::max(pos, std::abs(model_.position_residual(i, t, q)));
+    vel = (pw_.g * qd + pw_.g0).cwiseAbs().maxCoeff();
+  }
+
+  // Residuals of the current state; updates the maxima.
+  void track_residuals(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    double pos, vel;
+    residuals(t, q, qd, pos, vel);
+    res_pos_max_ = std::max(res_pos_max_, pos);
+    res_vel_max_ = std::max(res_vel_max_, vel);
+  }
+
+  // True if the state satisfies the constraints to the projection's tolerance already: the
+  // projection would change it by rounding only, and leaving it alone keeps the integrator's
+  // last evaluation valid (an explicit pair reuses it for its next step). A Runge-Kutta method
+  // preserves constraints that are linear in q exactly, so for constant rows this is the rule.
+  bool consistent_enough(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    if (legacy_) return false;  // the pre-issue-14 path projects after every step
+    double pos, vel;
+    residuals(t, q, qd, pos, vel);
+    const double gmax = s_ > 0 ? pw_.g.cwiseAbs().maxCoeff() : 0.0;
+    return pos <= opt_.projection_tol * (1.0 + q.lpNorm<Eigen::Infinity>()) &&
+           vel <= opt_.projection_tol * (1.0 + gmax * qd.lpNorm<Eigen::Infinity>());
   }
 
   // Called at t0 (step == nullptr) and after every accepted step.
@@ -168,7 +195,8 @@ class Run {
     Eigen::Map<Eigen::VectorXd> y(step.y, ny());
     Eigen::VectorXd q = y.head(n_), qd = y.segment(n_, n_);
     bool modified = false;
-    if (opt_.stabilization == Stabilization::projection && s_ > 0) {
+    if (opt_.stabilization == Stabilization::projection && s_ > 0 &&
+        (opt_.form == Form::dae || !consistent_enough(step.t, q, qd))) {
       double dq = 0.0, dv = 0.0;
       const ModelIssue e = project_state(model_, active_, step.t, q, qd, opt_.kernel,
                                          opt_.projection_tol, dq, dv, message_, pw_);
@@ -203,6 +231,7 @@ class Run {
   Dynamics dyn_, sample_dyn_;
   int n_, s_;
   ReactionMethod method_;
+  bool legacy_;
   Eigen::VectorXd q_, qd_, a_, Rv_, dense_;
   ProjectionWork pw_;
   const StepInfo* step_ = nullptr;

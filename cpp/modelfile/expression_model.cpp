@@ -107,7 +107,7 @@ void ExpressionModel::kinetic_terms(double t, const Eigen::VectorXd& q, const Ei
   const CompiledModel& c = *compiled_;
   const Block& b = c.tape.blocks[c.kinetic_block];
   double* v = values(t, q, &qd);
-  run(b.code, v);
+  c.run_block(c.kinetic_block, v);
   M.setZero();
   for (const auto& e : c.mass_entries) M(e.i, e.j) = M(e.j, e.i) = v[e.slot];
   const int n = c.tape.n;
@@ -120,7 +120,7 @@ void ExpressionModel::forces(double t, const Eigen::VectorXd& q, const Eigen::Ve
   const CompiledModel& c = *compiled_;
   const Block& b = c.tape.blocks[c.forces_block];
   double* v = values(t, q, &qd);
-  run(b.code, v);
+  c.run_block(c.forces_block, v);
   for (int i = 0; i < c.tape.n; ++i) Q[i] = v[b.results[i]];
 }
 
@@ -136,7 +136,7 @@ void ExpressionModel::constraint_rows(const std::vector<int>& active, double t,
   for (std::size_t r = 0; r < active.size(); ++r) {
     const int i = active[r];
     const Block& b = c.tape.blocks[c.constraint_blocks[i].rows];
-    run(b.code, v);
+    c.run_block(c.constraint_blocks[i].rows, v);
     for (const auto& e : c.row_entries[i]) g(static_cast<int>(r), e.j) = v[e.slot];
     g0[static_cast<int>(r)] = v[b.results[n]];
     gamma[static_cast<int>(r)] = v[b.results[n + 1]];
@@ -151,7 +151,7 @@ double ExpressionModel::position_residual(int i, double t, const Eigen::VectorXd
   }
   const Block& b = c.tape.blocks[c.constraint_blocks[i].position];
   double* v = values(t, q, nullptr);
-  run(b.code, v);
+  c.run_block(c.constraint_blocks[i].position, v);
   return v[b.results[0]];
 }
 
@@ -168,7 +168,7 @@ void ExpressionModel::derived(double t, const Eigen::VectorXd& q, const Eigen::V
     v[tape.qdd_slot + i] = qdd.size() == tape.n ? qdd[i] : std::numeric_limits<double>::quiet_NaN();
     v[tape.R_slot + i] = R.size() == tape.n ? R[i] : std::numeric_limits<double>::quiet_NaN();
   }
-  run(b.code, v);
+  c.run_block(c.outputs_block, v);
   for (std::size_t k = 0; k < b.results.size(); ++k) out[static_cast<int>(k)] = v[b.results[k]];
 }
 

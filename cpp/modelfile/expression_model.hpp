@@ -43,6 +43,16 @@ struct CompiledModel {
   std::vector<Entry> mass_entries;                ///< (i, j) with i <= j
   std::vector<std::vector<Entry>> row_entries;    ///< per constraint: (0, k) of g's row
   void index_entries();                           ///< fills the two lists from the blocks
+
+  /// The blocks compiled to native code at build time (built-in models only; empty: the tape
+  /// is interpreted). One per tape block, in order.
+  std::vector<NativeBlock> native;
+  /// Runs block `index` on the slots v: natively when the model has native code, else from
+  /// the tape. The same operations either way.
+  void run_block(int index, double* v) const {
+    if (!native.empty()) native[static_cast<std::size_t>(index)](v);
+    else run(tape.blocks[static_cast<std::size_t>(index)].code, v);
+  }
 };
 
 /// One instantiation: the compiled model with its constant region (literals, parameters,

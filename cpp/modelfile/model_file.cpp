@@ -10,9 +10,11 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "modelfile/expression.hpp"
 #include "modelfile/expression_model.hpp"
 #include "modelfile/symbolic.hpp"
+#include "modelfile/tape_io.hpp"
 
 namespace pcsim::modelfile {
 
@@ -33,15 +35,7 @@ bool ParameterSpec::admits(double v) const {
 namespace {
 
 std::string number_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  // The shortest of %.15g..%.17g that reads back equal (so 0.1 prints as 0.1).
-  for (int p = 15; p <= 17; ++p) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.*g", p, v);
-    if (std::strtod(b, nullptr) == v) return b;
-  }
-  return buf;
+  return format_number(v);  // the project's one formatter: shortest round trip
 }
 
 }  // namespace
@@ -623,8 +617,18 @@ std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::p
 }
 
 std::shared_ptr<const ModelDescription> load_model_text(const std::string& text,
-                                                        const std::filesystem::path& name) {
-  return build(std::make_shared<const ModelSource>(detail::parse_model_source_text(text, name)));
+                                                        const std::filesystem::path& name,
+                                                        const std::string* precompiled,
+                                                        const std::vector<NativeBlock>* native) {
+  auto src = std::make_shared<const ModelSource>(detail::parse_model_source_text(text, name));
+  if (precompiled) {
+    if (auto compiled = deserialize_compiled(*precompiled, text)) {
+      if (native && native->size() == compiled->tape.blocks.size()) compiled->native = *native;
+      ModelDescription::Parts parts{std::move(src), std::move(compiled)};
+      return std::make_shared<const ModelDescription>(std::move(parts));
+    }
+  }
+  return build(std::move(src));
 }
 
 }  // namespace pcsim::modelfile

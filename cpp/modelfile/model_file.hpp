@@ -17,6 +17,7 @@
 #include <toml++/toml.h>
 
 #include "mech/model.hpp"
+#include "modelfile/tape.hpp"
 
 namespace pcsim::modelfile {
 
@@ -145,8 +146,13 @@ std::shared_ptr<const ModelDescription> load_model_file(const std::filesystem::p
 
 /// The same from the text of a model file (a built-in model compiled into pcsim, or a file
 /// already read); `name` names it in messages.
-std::shared_ptr<const ModelDescription> load_model_text(const std::string& text,
-                                                        const std::filesystem::path& name);
+/// `precompiled`: serialize_compiled() bytes of this text's compiled model (made at build time
+/// for the built-in models); when they match the text, the symbolic derivation is skipped.
+/// `native`: the blocks of that compiled model as native code (made by the same build); used
+/// only with matching `precompiled` bytes and when there is one per block.
+std::shared_ptr<const ModelDescription> load_model_text(
+    const std::string& text, const std::filesystem::path& name,
+    const std::string* precompiled = nullptr, const std::vector<NativeBlock>* native = nullptr);
 
 /// The same for a [model] table already read (e.g. inline in a case file). `source` names the
 /// file in messages; `key_prefix` is the dotted key of the table ("model").

@@ -1,6 +1,8 @@
 // The tape interpreter: values and forward-mode tangents (see tape.hpp).
 #include "modelfile/tape.hpp"
 
+#include <cstdio>
+
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -51,22 +53,57 @@ std::size_t Tape::instruction_count() const {
 
 namespace {
 
-// a^k for an integer k (|k| small): binary powering, as exact as repeated multiplication.
-inline double powi(double a, int k) {
-  unsigned e = static_cast<unsigned>(k < 0 ? -k : k);
-  double result = 1.0, base = a;
-  while (e != 0) {
-    if (e & 1u) result *= base;
-    base *= base;
-    e >>= 1;
-  }
-  return k < 0 ? 1.0 / result : result;
-}
-
 inline double sign(double a) { return a > 0 ? 1.0 : (a < 0 ? -1.0 : 0.0); }
-inline double step(double a) { return a > 0 ? 1.0 : (a < 0 ? 0.0 : 0.5); }
 
 }  // namespace
+
+std::string native_source(const std::vector<Instr>& code) {
+  std::string out;
+  char buf[160];
+  auto v = [](std::uint32_t slot) { return "v[" + std::to_string(slot) + "]"; };
+  for (const Instr& in : code) {
+    const std::string d = v(in.dst), a = v(in.a), b = v(in.b), c = v(in.c);
+    std::string e;
+    switch (in.op) {
+      case Op::add: e = a + " + " + b; break;
+      case Op::sub: e = a + " - " + b; break;
+      case Op::mul: e = a + " * " + b; break;
+      case Op::div: e = a + " / " + b; break;
+      case Op::neg: e = "-" + a; break;
+      case Op::recip: e = "1.0 / " + a; break;
+      case Op::sqr: e = a + " * " + a; break;
+      case Op::powi: e = "pcsim::modelfile::powi(" + a + ", " + std::to_string(static_cast<std::int32_t>(in.b)) + ")"; break;
+      case Op::pow: e = "std::pow(" + a + ", " + b + ")"; break;
+      case Op::sqrt: e = "std::sqrt(" + a + ")"; break;
+      case Op::sin: e = "std::sin(" + a + ")"; break;
+      case Op::cos: e = "std::cos(" + a + ")"; break;
+      case Op::tan: e = "std::tan(" + a + ")"; break;
+      case Op::asin: e = "std::asin(" + a + ")"; break;
+      case Op::acos: e = "std::acos(" + a + ")"; break;
+      case Op::atan: e = "std::atan(" + a + ")"; break;
+      case Op::atan2: e = "std::atan2(" + a + ", " + b + ")"; break;
+      case Op::sinh: e = "std::sinh(" + a + ")"; break;
+      case Op::cosh: e = "std::cosh(" + a + ")"; break;
+      case Op::tanh: e = "std::tanh(" + a + ")"; break;
+      case Op::exp: e = "std::exp(" + a + ")"; break;
+      case Op::log: e = "std::log(" + a + ")"; break;
+      case Op::abs: e = "std::abs(" + a + ")"; break;
+      case Op::step: e = "pcsim::modelfile::step(" + a + ")"; break;
+      case Op::min: e = "std::fmin(" + a + ", " + b + ")"; break;
+      case Op::max: e = "std::fmax(" + a + ", " + b + ")"; break;
+      case Op::sincos:
+        std::snprintf(buf, sizeof buf, "  { const double x = %s; %s = std::sin(x); %s = std::cos(x); }\n",
+                      a.c_str(), d.c_str(), b.c_str());
+        out += buf;
+        continue;
+      case Op::madd: e = a + " * " + b + " + " + c; break;
+      case Op::msub: e = a + " * " + b + " - " + c; break;
+      case Op::nmadd: e = c + " - " + a + " * " + b; break;
+    }
+    out += "  " + d + " = " + e + ";\n";
+  }
+  return out;
+}
 
 void run(const Instr* code, std::size_t count, double* v) {
   const Instr* const end = code + count;

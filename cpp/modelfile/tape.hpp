@@ -79,6 +79,27 @@ struct Tape {
   std::size_t instruction_count() const;
 };
 
+/// a^k for an integer k (|k| small): binary powering, as exact as repeated multiplication.
+inline double powi(double a, int k) {
+  unsigned e = static_cast<unsigned>(k < 0 ? -k : k);
+  double result = 1.0, base = a;
+  while (e != 0) {
+    if (e & 1u) result *= base;
+    base *= base;
+    e >>= 1;
+  }
+  return k < 0 ? 1.0 / result : result;
+}
+/// Heaviside: 0 (a < 0), 1/2 (a = 0), 1 (a > 0).
+inline double step(double a) { return a > 0 ? 1.0 : (a < 0 ? 0.0 : 0.5); }
+
+/// A block compiled to native code at build time (tools/precompile_models: the built-in models
+/// only): the same operations in the same order as run() performs, so the same results.
+using NativeBlock = void (*)(double* v);
+
+/// The operations of code as C++ statements on `double* v` (what a NativeBlock's body is).
+std::string native_source(const std::vector<Instr>& code);
+
 /// Runs code on the slot values v. No allocation, no exceptions.
 void run(const Instr* code, std::size_t count, double* v);
 inline void run(const std::vector<Instr>& code, double* v) { run(code.data(), code.size(), v); }

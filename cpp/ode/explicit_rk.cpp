@@ -3,6 +3,7 @@
 // callbacks, and maps IDID to OdeStatus with a message naming the time. Exceptions never reach
 // the kernels: the trampolines below catch everything and report an error code.
 #include "ode/explicit_rk.hpp"
+#include "common/format.hpp"
 
 #include <climits>
 #include <cmath>
@@ -62,12 +63,7 @@ double dense_one(const void* impl, int i, double s) {
   return out;
 }
 
-std::string at_time(double t) {
-  std::ostringstream s;
-  s.precision(17);
-  s << t;
-  return s.str();
-}
+std::string at_time(double t) { return format_number(t); }
 
 // Records why a callback failed; called inside a catch handler, it must not throw itself.
 void record_error(CallContext* c, const char* who, double t) noexcept {

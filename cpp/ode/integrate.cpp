@@ -1,6 +1,7 @@
 // ode_integrate: runs Radau, the explicit pair, or the explicit pair followed by Radau when the
 // stiffness test fires (auto), and merges their results and counters.
 #include "ode/integrate.hpp"
+#include "common/format.hpp"
 
 #include <sstream>
 
@@ -69,12 +70,7 @@ void add_radau(OdeResult& out, const RadauResult& r) {
   out.rejected += r.stats.rejected;
 }
 
-std::string at_time(double t) {
-  std::ostringstream s;
-  s.precision(17);
-  s << t;
-  return s.str();
-}
+std::string at_time(double t) { return format_number(t); }
 
 }  // namespace
 

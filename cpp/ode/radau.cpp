@@ -3,6 +3,7 @@
 // IDID to RadauStatus with a message naming the time. Exceptions never reach the kernels: the
 // trampolines below catch everything and report an error code.
 #include "ode/radau.hpp"
+#include "common/format.hpp"
 
 #include <climits>
 #include <cmath>
@@ -164,12 +165,7 @@ extern "C" void radau_solout_unused(const int*, const double*, const double*, do
   *irtrn = 0;
 }
 
-std::string at_time(double t) {
-  std::ostringstream s;
-  s.precision(17);
-  s << t;
-  return s.str();
-}
+std::string at_time(double t) { return format_number(t); }
 
 RadauResult bad(const std::string& why, OdeStatus status = OdeStatus::bad_input) {
   RadauResult r;

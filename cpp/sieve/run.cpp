@@ -372,7 +372,8 @@ std::string SieveClient::report(const sim::Case& c, const nlohmann::json& s) con
   };
   os << "pcsim run: case '" << s["case"].get<std::string>() << "' (sieve, "
      << s["model_form"].get<std::string>() << " model, " << s["kernel"].get<std::string>()
-     << " kernel, " << s["form"].get<std::string>() << " form), " << s["t_end"].get<double>()
+     << " kernel, " << s["form"].get<std::string>() << " form, "
+     << s.value("methods_used", std::string("radau")) << "), " << s["t_end"].get<double>()
      << " s of motion\n";
   os << "  assumptions (not printed in the paper):";
   int k = 0;

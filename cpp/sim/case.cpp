@@ -165,7 +165,7 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   method.meaning = "the integrator: Radau IIA, the explicit Dormand-Prince 8(5,3) pair, or auto "
                    "(explicit until its stiffness test fires, then Radau)";
   method.choices = {"radau", "explicit", "auto"};
-  method.string_default = "radau";
+  method.string_default = "auto";
   keys.push_back(method);
   KeySpec la = kernel;
   la.name = "linear_algebra";
@@ -618,7 +618,7 @@ Setup setup_of(const Case& c) {
     if (t["constraints"][con.name].value_or(con.active_by_default)) s.active.push_back(con.name);
   s.kernel = *parse_kernel(t["solver"]["kernel"].value_or(std::string("fortran")));
   s.form = t["solver"]["form"].value_or(std::string("ode")) == "dae" ? mech::Form::dae : mech::Form::ode;
-  s.method = *parse_ode_method(t["solver"]["method"].value_or(std::string("radau")));
+  s.method = *parse_ode_method(t["solver"]["method"].value_or(std::string("auto")));
   const std::string la = t["solver"]["linear_algebra"].value_or(std::string("auto"));
   s.linear_algebra = la == "own"      ? RadauOptions::LinearAlgebra::own_lu
                      : la == "lapack" ? RadauOptions::LinearAlgebra::lapack

@@ -104,7 +104,7 @@ struct Setup {
   std::vector<std::string> active;      ///< active constraints, in the model's offer order
   Kernel kernel = Kernel::fortran;
   mech::Form form = mech::Form::ode;
-  OdeMethod method = OdeMethod::radau;
+  OdeMethod method = OdeMethod::automatic;
   RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
   double rtol = 1e-6, atol = 1e-8, t_end = 10.0, h0 = 0.0;
   long max_steps = 1000000;

@@ -105,8 +105,12 @@ inline void refine_max_if_promising(const std::vector<double>& s, const std::vec
   const int i = static_cast<int>(std::max_element(f.begin(), f.end()) - f.begin());
   bool promising = f[i] > best.value || !std::isfinite(f[i]);
   if (!promising) {
+    // The parabola's peak estimates the true one with an error of the order of its own rise
+    // above the best sample (the samples' spacing to the fourth against to the second power),
+    // so a step whose estimate comes within that rise of the best value is refined too.
     const int c = (i == 0) ? 1 : (i == K ? K - 1 : i);
-    promising = parabola_peak(s[c - 1], f[c - 1], s[c], f[c], s[c + 1], f[c + 1]) > best.value;
+    const double p = parabola_peak(s[c - 1], f[c - 1], s[c], f[c], s[c + 1], f[c + 1]);
+    promising = std::isfinite(p) && p + (p - f[i]) > best.value;
   }
   if (promising) refine_max(s, f, eval, best, iterations);
 }

@@ -114,7 +114,18 @@ std::shared_ptr<const modelfile::ModelDescription> embedded_description(const st
   static std::map<std::string, std::shared_ptr<const modelfile::ModelDescription>> cache;
   std::lock_guard<std::mutex> lock(m);
   auto& d = cache[file_stem];
-  if (!d) d = modelfile::load_model_text(embedded_model_text(file_stem), "built-in models/" + file_stem + ".toml");
+  if (!d) {
+    // The compiled model made at build time, when it matches the text (it always does in a
+    // consistent build; otherwise the model is derived here as any model file is).
+    const auto& tapes = embedded_model_tapes();
+    const auto it = tapes.find(file_stem);
+    const auto& natives = embedded_model_natives();
+    const auto nt = natives.find(file_stem);
+    d = modelfile::load_model_text(embedded_model_text(file_stem),
+                                   "built-in models/" + file_stem + ".toml",
+                                   it == tapes.end() ? nullptr : &it->second,
+                                   nt == natives.end() ? nullptr : &nt->second);
+  }
   return d;
 }
 

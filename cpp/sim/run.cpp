@@ -17,6 +17,7 @@
 #include "mech/simulation.hpp"
 #include "sim/client.hpp"
 #include "sim/extremes.hpp"
+#include "sim/row_writer.hpp"
 
 namespace pcsim::sim {
 
@@ -27,9 +28,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The time-series rows, the window extremes of every column, written as the run goes.
 class Monitor {
  public:
-  Monitor(int n, int n_out, double w0, double w1, double dt, double t_end, OutputStream* csv)
+  Monitor(int n, int n_out, double w0, double w1, double dt, double t_end, RowWriter* csv)
       : n_(n), n_out_(n_out), w0_(w0), w1_(w1), dt_(dt), t_end_(t_end), csv_(csv),
-        maxima_(3 * n + n_out), minima_(3 * n + n_out) {
+        maxima_(3 * n + n_out), minima_(3 * n + n_out), row_(3 * n + n_out + 3) {
     last_row_ = static_cast<long>(std::floor(t_end / dt * (1 + 1e-12)));
     if (last_row_ * dt < t_end * (1 - 1e-12)) ++last_row_;
   }
@@ -113,27 +114,21 @@ class Monitor {
   }
 
   void add_row(const mech::Sample& s) {
-    std::string& out = csv_->buffer();
-    append_number(out, s.t);
-    for (int j = 0; j < columns(); ++j) {
-      out += ',';
-      append_number(out, value(s, j));
-    }
-    out += ',';
-    append_number(out, s.residual_pos);
-    out += ',';
-    append_number(out, s.residual_vel);
-    out += '\n';
-    csv_->maybe_flush();
+    row_[0] = s.t;
+    for (int j = 0; j < columns(); ++j) row_[j + 1] = value(s, j);
+    row_[columns() + 1] = s.residual_pos;
+    row_[columns() + 2] = s.residual_vel;
+    csv_->add(row_.data());
   }
 
   int n_, n_out_;
   double w0_, w1_, dt_, t_end_;
-  OutputStream* csv_;
+  RowWriter* csv_;
   long next_row_ = 0, last_row_ = 0;
   std::vector<RunningMax> maxima_, minima_;  // minima hold the negated signal
   std::vector<double> s_, f_;
   std::vector<mech::Sample> smp_;
+  std::vector<double> row_;
 };
 
 nlohmann::json null_if_nan(double v) {
@@ -234,7 +229,9 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   const double w1 = set.t_end;
 
   const int n_out = static_cast<int>(source.outputs().size());
-  Monitor mon(n, n_out, w0, w1, set.dt, set.t_end, dir ? &csv : nullptr);
+  std::unique_ptr<RowWriter> writer;
+  if (dir) writer = std::make_unique<RowWriter>(csv, 3 * n + n_out + 3);
+  Monitor mon(n, n_out, w0, w1, set.dt, set.t_end, writer.get());
   std::unique_ptr<ClientMonitor> client_mon = c.client ? c.client->monitor(c, set) : nullptr;
 
   bool stopped_by_client = false;
@@ -326,11 +323,11 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   }
 
   if (out) {
-    csv.close();
+    writer->finish();
     out->write("summary.json", j.dump(2) + "\n");
     out->commit();
   } else if (dir) {
-    csv.close();
+    writer->finish();
   }
   if (!complete)
     throw NumericalError("case '" + c.name + "': " + client_mon->stop_reason() +
@@ -370,7 +367,8 @@ std::string human_report(const Case& c, const nlohmann::json& s) {
   std::ostringstream os;
   os << "pcsim run: case '" << s["case"].get<std::string>() << "' (" << c.model->origin() << ", "
      << s["kernel"].get<std::string>() << " kernel, " << s["form"].get<std::string>()
-     << " form), " << format_number(s["t_end"].get<double>()) << " s of motion\n";
+     << " form, " << s.value("methods_used", std::string()) << "), "
+     << format_number(s["t_end"].get<double>()) << " s of motion\n";
   os << "  constraints:";
   if (s["constraints"].empty()) os << " none";
   for (const auto& n : s["constraints"]) os << ' ' << n.get<std::string>();

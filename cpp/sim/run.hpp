@@ -26,6 +26,10 @@ namespace pcsim::sim {
 inline constexpr double kMaxOutputRows = 1e7;
 
 struct RunOptions {
+  RunOptions() = default;
+  /// RunOptions{out_dir, variant}, as before the internal fields below existed.
+  RunOptions(std::optional<std::filesystem::path> out, std::string v = "")
+      : out_dir(std::move(out)), variant(std::move(v)) {}
   /// Where to write timeseries.csv and summary.json; nullopt writes nothing (sweeps). The
   /// directory is locked for the run and replaced as a whole at its end (common/files.hpp).
   std::optional<std::filesystem::path> out_dir;

@@ -32,7 +32,7 @@ namespace pcsim::study {
 namespace {
 
 std::string errno_text(const std::string& what, const std::filesystem::path& p) {
-  return what + " " + p.string() + ": " + std::strerror(errno);
+  return errno_message(what, p);
 }
 
 /// Writes all of `data` to fd; "" or the reason.
@@ -49,23 +49,12 @@ std::string write_all(int fd, const std::string& data, const std::filesystem::pa
   return "";
 }
 
-/// Replaces `file` by `content` atomically: temporary file, fsync, rename, fsync of the
-/// directory. "" or the reason.
+/// Replaces `file` by `content` atomically and durably (common/files.hpp). "" or the reason.
 std::string replace_file(const std::filesystem::path& file, const std::string& content) {
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return errno_text("cannot create", tmp);
-  std::string err = write_all(fd, content, tmp);
-  if (err.empty() && ::fsync(fd) != 0) err = errno_text("cannot fsync", tmp);
-  ::close(fd);
-  if (err.empty() && std::rename(tmp.c_str(), file.c_str()) != 0)
-    err = errno_text("cannot rename to", file);
-  if (!err.empty()) return err;
-  const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd >= 0) {
-    ::fsync(dfd);  // best effort: makes the rename durable
-    ::close(dfd);
+  try {
+    write_file_atomically(file, content, true);
+  } catch (const std::exception& e) {
+    return e.what();
   }
   return "";
 }

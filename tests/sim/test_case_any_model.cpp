@@ -81,6 +81,7 @@ BOOST_AUTO_TEST_CASE(registered_model_from_a_case_equals_the_cpp_api) {
   const auto summary = run_case(c);
   const auto model = mech::create_model("pendulum", {{"L", 2.0}, {"m", 1.5}});
   mech::SimulationOptions o;
+  o.method = OdeMethod::automatic;  // the case's default
   o.t_end = 2.0;
   o.rtol = 1e-8;
   o.atol = 1e-10;

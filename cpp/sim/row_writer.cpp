@@ -1,0 +1,80 @@
+#include "sim/row_writer.hpp"
+
+#include "common/format.hpp"
+
+namespace pcsim::sim {
+
+namespace {
+constexpr std::size_t kBlockRows = 512;
+}
+
+RowWriter::RowWriter(OutputStream& out, int columns) : out_(out), columns_(columns) {
+  block_.reserve(kBlockRows * static_cast<std::size_t>(columns));
+  thread_ = std::thread([this] { work(); });
+}
+
+RowWriter::~RowWriter() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    done_ = true;
+  }
+  cv_.notify_one();
+  if (thread_.joinable()) thread_.join();
+}
+
+void RowWriter::add(const double* row) {
+  block_.insert(block_.end(), row, row + columns_);
+  if (block_.size() >= kBlockRows * static_cast<std::size_t>(columns_)) flush_block();
+}
+
+void RowWriter::flush_block() {
+  if (block_.empty()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    queue_.push_back(std::move(block_));
+  }
+  cv_.notify_one();
+  block_ = std::vector<double>();
+  block_.reserve(kBlockRows * static_cast<std::size_t>(columns_));
+}
+
+void RowWriter::work() {
+  for (;;) {
+    std::vector<double> rows;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      cv_.wait(lock, [this] { return done_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // done, nothing left
+      rows = std::move(queue_.front());
+      queue_.pop_front();
+    }
+    if (error_) continue;  // drain after a failure
+    try {
+      std::string& text = out_.buffer();
+      for (std::size_t i = 0; i < rows.size(); i += static_cast<std::size_t>(columns_)) {
+        for (int j = 0; j < columns_; ++j) {
+          if (j) text += ',';
+          append_number(text, rows[i + static_cast<std::size_t>(j)]);
+        }
+        text += '\n';
+      }
+      out_.maybe_flush();
+    } catch (...) {
+      error_ = std::current_exception();
+    }
+  }
+}
+
+void RowWriter::finish() {
+  flush_block();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    done_ = true;
+  }
+  cv_.notify_one();
+  if (thread_.joinable()) thread_.join();
+  if (error_) std::rethrow_exception(error_);
+  out_.close();
+}
+
+}  // namespace pcsim::sim
