@@ -71,6 +71,12 @@ void compare(const std::string& file, const std::string& label, int repeats) {
   const sim::Case c = sim::load_case(file);
   nlohmann::json run;
   const double t_run = min_time(repeats, [&] { run = sim::run_case(c); });
+  // The 10 s run on the path of the time issue 13 was filed (before issue 14's speed-ups: the AD
+  // closed form, Radau, LAPACK, the dense compatibility solve; bench_sieve's "release path").
+  const sim::Case old_case = sim::load_case(file, {{"solver.method", "radau"}, {"solver.linear_algebra", "lapack"}});
+  sim::RunOptions old_opt;
+  old_opt.variant = "closed_form";
+  const double t_old = min_time(std::min(repeats, 3), [&] { sim::run_case(old_case, old_opt); });
   // The roller held where the run ends (theta locked: the position changes nothing).
   const sim::Case held = sim::load_case(file, {{"initial.s0", format_number(run["q_end"]["s"].get<double>())}});
   steady::SteadyOptions o;
@@ -88,6 +94,8 @@ void compare(const std::string& file, const std::string& label, int repeats) {
   std::printf("  %-44s %9s %9s  %-34s\n", "", "CPU [s]", "ratio", "largest error vs reference");
   std::printf("  %-44s %9.4f %9.2f  %.2e (%s)\n", "pcsim run, 10 s, last 5 periods", t_run, 1.0, e_run,
               w_run.c_str());
+  std::printf("  %-44s %9.4f %9.2f  (the same window)\n", "  the same on the path before issue 14", t_old,
+              t_run / t_old);
   std::printf("  %-44s %9.4f %9.2f  %.2e (%s)\n", "pcsim steady: shooting + one-period summary", t_steady,
               t_run / t_steady, e_steady, w_steady.c_str());
   std::printf("  %-44s %9.4f %9.2f\n", "  of which Newton shooting", t_shoot, t_run / t_shoot);
@@ -96,13 +104,39 @@ void compare(const std::string& file, const std::string& label, int repeats) {
               st["newton"]["iterations"].get<int>(), st["shooting"]["integrations"].get<long>(),
               st["shooting"]["steps"].get<long>(), st["shooting"]["f_evals"].get<long>(),
               run["stats"]["steps"].get<long>(), run["stats"]["f_evals"].get<long>());
-  std::printf("  speed-up %.1fx at %s accuracy (errors %.1e vs %.1e)\n\n", t_run / t_steady,
-              e_steady <= e_run ? "better" : "worse", e_steady, e_run);
+  std::printf("  speed-up %.1fx at %s accuracy (errors %.1e vs %.1e); %.0fx against the run before "
+              "issue 14\n",
+              t_run / t_steady, e_steady <= e_run ? "better" : "worse", e_steady, e_run, t_old / t_steady);
+  // Equal accuracy: pcsim steady at looser tolerances, as long as its error stays below the
+  // run's (the run's own tolerance cannot make it more accurate: its error is drift/transient).
+  for (const char* rtol : {"1e-5", "1e-4", "1e-3"}) {
+    const sim::Case loose = sim::load_case(file, {{"initial.s0", format_number(run["q_end"]["s"].get<double>())},
+                                                  {"solver.rtol", rtol}});
+    nlohmann::json sl;
+    const double t = min_time(repeats, [&] { sl = steady::steady_case(loose, o); });
+    std::string w;
+    const double e = worst_error(sl["summary"], ref, &w);
+    std::printf("  %-44s %9.4f %9.2f  %.2e (%s)%s\n", ("pcsim steady at rtol " + std::string(rtol)).c_str(), t,
+                t_run / t, e, w.c_str(), e <= e_run ? "" : "  [less accurate than the run]");
+  }
+  std::printf("\n");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // bench_steady --profile N [summary]: only pcsim steady's computation, N times (for a profiler).
+  if (argc > 2 && std::string(argv[1]) == "--profile") {
+    sieve::register_sieve();
+    const sim::Case c = sim::load_case(std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml");
+    steady::SteadyOptions o;
+    o.summary = argc > 3;
+    const int n = std::atoi(argv[2]);
+    const double t0 = cpu_now();
+    for (int i = 0; i < n; ++i) steady::steady_case(c, o);
+    std::printf("%.3f ms per steady state\n", 1e3 * (cpu_now() - t0) / n);
+    return 0;
+  }
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   std::printf("bench_steady: the steady state of the sieve, best of %d (thread CPU time); the "
               "reference is pcsim steady at rtol 1e-11, atol 1e-15, the roller held where the "

@@ -1,6 +1,7 @@
 // The exact tangent of the ODE form's right-hand side (see tangent.hpp).
 #include "mech/tangent.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +17,55 @@ std::string fmt(double v) {
   return os.str();
 }
 
+// Cholesky factorization A = L Lᵀ in place (the lower triangle of A becomes L; rdiag holds
+// 1/L_jj), with the engine's acceptance test: every pivot positive and the pivot ratio above
+// 1e-13. Column-oriented loops over contiguous memory, no allocation.
+bool cholesky(Eigen::MatrixXd& A, Eigen::VectorXd& rdiag) {
+  const int n = static_cast<int>(A.rows());
+  rdiag.resize(n);
+  double dmin = INFINITY, dmax = 0;
+  double* a = A.data();
+  for (int j = 0; j < n; ++j) {
+    double* cj = a + static_cast<std::size_t>(j) * n;  // column j
+    // cj[j..n) -= L(j..n, 0..j) L(j, 0..j)ᵀ
+    for (int k = 0; k < j; ++k) {
+      const double* ck = a + static_cast<std::size_t>(k) * n;
+      const double ljk = ck[j];
+      for (int i = j; i < n; ++i) cj[i] -= ck[i] * ljk;
+    }
+    const double d = cj[j];
+    if (!(d > 0)) return false;
+    dmin = std::min(dmin, d);
+    dmax = std::max(dmax, d);
+    const double l = std::sqrt(d), r = 1.0 / l;
+    cj[j] = l;
+    rdiag[j] = r;
+    for (int i = j + 1; i < n; ++i) cj[i] *= r;
+  }
+  return n == 0 || dmin > 1e-13 * dmax;
+}
+
+// B := (L Lᵀ)⁻¹ B, column by column (L the lower triangle of F, rdiag its reciprocal diagonal).
+void cholesky_solve(const Eigen::MatrixXd& F, const Eigen::VectorXd& rdiag, Eigen::Ref<Eigen::MatrixXd> B) {
+  const int n = static_cast<int>(F.rows());
+  const double* f = F.data();
+  for (int c = 0; c < B.cols(); ++c) {
+    double* b = B.col(c).data();
+    for (int j = 0; j < n; ++j) {  // L y = b
+      const double yj = b[j] * rdiag[j];
+      b[j] = yj;
+      const double* fj = f + static_cast<std::size_t>(j) * n;
+      for (int i = j + 1; i < n; ++i) b[i] -= fj[i] * yj;
+    }
+    for (int i = n - 1; i >= 0; --i) {  // Lᵀ x = y
+      const double* fi = f + static_cast<std::size_t>(i) * n;
+      double v = b[i];
+      for (int k = i + 1; k < n; ++k) v -= fi[k] * b[k];
+      b[i] = v * rdiag[i];
+    }
+  }
+}
+
 }  // namespace
 
 RhsTangent::RhsTangent(const Model& model, Stabilization stabilization, double alpha, double beta)
@@ -23,9 +73,7 @@ RhsTangent::RhsTangent(const Model& model, Stabilization stabilization, double a
       stabilization_(stabilization),
       alpha_(alpha),
       beta_(beta),
-      n_(model.n()),
-      llt_(model.n()),
-      llt_s_(1) {
+      n_(model.n()) {
   if (!model.has_tangents()) {
     throw std::invalid_argument(
         "model '" + model.name() +
@@ -85,36 +133,27 @@ ModelIssue RhsTangent::evaluate(const ActiveSet& active, double t, const Eigen::
     }
   }
   // The values: the structured compatibility solve, as Dynamics computes it.
-  llt_.compute(M_);
-  bool ok = llt_.info() == Eigen::Success;
-  if (ok) {
-    const auto d = llt_.matrixLLT().diagonal().cwiseAbs2();
-    ok = d.minCoeff() > 1e-13 * d.maxCoeff();
-  }
-  if (!ok) {
+  if (!cholesky(M_, rM_)) {
     return fail(ModelIssue::singular_mass_matrix,
                 "the mass matrix M = d2T/dqd2 is singular or not positive definite at t = " + fmt(t));
   }
   f_ = Q_ - h_;
-  a0_ = llt_.solve(f_);
+  a0_ = f_;
+  cholesky_solve(M_, rM_, a0_);
   lambda.resize(s);
   if (s > 0) {
-    MinvgT_ = llt_.solve(g_.transpose());
+    MinvgT_ = g_.transpose();
+    cholesky_solve(M_, rM_, MinvgT_);
     S_.noalias() = g_ * MinvgT_;
-    llt_s_.compute(S_);
-    ok = llt_s_.info() == Eigen::Success;
-    if (ok) {
-      const auto d = llt_s_.matrixLLT().diagonal().cwiseAbs2();
-      ok = d.minCoeff() > 1e-13 * d.maxCoeff();
-    }
-    if (!ok) {
+    if (!cholesky(S_, rS_)) {
       return fail(ModelIssue::dependent_constraints,
                   "the active constraints are linearly dependent at t = " + fmt(t) +
                       " (g M^-1 g^T is singular)");
     }
-    Eigen::VectorXd G0 = g_ * a0_;
-    G0 += gamma_;
-    lambda = -llt_s_.solve(G0);
+    G0_.noalias() = g_ * a0_;
+    G0_ += gamma_;
+    lambda = -G0_;
+    cholesky_solve(S_, rS_, lambda);
     R.noalias() = g_.transpose() * lambda;
     qdd = a0_;
     qdd.noalias() += MinvgT_ * lambda;
@@ -133,12 +172,15 @@ ModelIssue RhsTangent::evaluate(const ActiveSet& active, double t, const Eigen::
     }
   }
   if (s > 0) B2_ -= dgamma_;
-  X_ = llt_.solve(B1_);  // M⁻¹ b1
+  X_ = B1_;  // M⁻¹ b1
+  cholesky_solve(M_, rM_, X_);
   dqdd = X_;
   dlambda.resize(s, k);
   dR.resize(n, k);
   if (s > 0) {
-    dlambda = llt_s_.solve(B2_ - g_ * X_);
+    dlambda = B2_;
+    dlambda.noalias() -= g_ * X_;
+    cholesky_solve(S_, rS_, dlambda);
     dqdd.noalias() += MinvgT_ * dlambda;
     dR.noalias() = g_.transpose() * dlambda;
     for (int j = 0; j < k; ++j) dR.col(j).noalias() += dg_[j].transpose() * lambda;
@@ -152,11 +194,14 @@ ModelIssue RhsTangent::evaluate(const ActiveSet& active, double t, const Eigen::
 }
 
 void RhsTangent::respond(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, Eigen::MatrixXd* L) const {
-  X = llt_.solve(B);
+  X = B;
+  cholesky_solve(M_, rM_, X);
   if (s_ > 0) {
-    const Eigen::MatrixXd Lm = -llt_s_.solve(g_ * X);
-    X.noalias() += MinvgT_ * Lm;
-    if (L) *L = Lm;
+    R2_.noalias() = g_ * X;
+    R2_ = -R2_;
+    cholesky_solve(S_, rS_, R2_);
+    X.noalias() += MinvgT_ * R2_;
+    if (L) *L = R2_;
   } else if (L) {
     L->resize(0, B.cols());
   }

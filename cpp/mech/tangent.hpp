@@ -68,10 +68,12 @@ class RhsTangent {
   int n_, s_ = 0;
   std::string message_;
 
-  Eigen::MatrixXd M_, g_, dh_, dQ_, dg0_, dgamma_, B1_, B2_, X_, MinvgT_, S_, Vjac_;
-  Eigen::VectorXd h_, Q_, g0_, gamma_, f_, a0_;
+  Eigen::MatrixXd M_, g_, dh_, dQ_, dg0_, dgamma_, B1_, B2_, X_, MinvgT_, S_, Vjac_, T_;
+  Eigen::VectorXd h_, Q_, g0_, gamma_, f_, a0_, G0_, rM_, rS_;
   std::vector<Eigen::MatrixXd> dM_, dg_;
-  Eigen::LLT<Eigen::MatrixXd> llt_, llt_s_;
+  // Cholesky factors (lower triangles) of M (in M_) and of g M⁻¹ gᵀ (in S_): small dense
+  // matrices, factored and solved by plain loops without allocation.
+  mutable Eigen::MatrixXd R1_, R2_;
 };
 
 }  // namespace pcsim::mech

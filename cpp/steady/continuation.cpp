@@ -180,7 +180,6 @@ Branch continue_branch(const std::function<OrbitProblem(double)>& problem_of,
         const double corr = sh.correction_norm(xc, Lc, delta.head(N));
         const double dpc = delta[N];
         OrbitPoint xn;
-        std::string msg;
         if (!sh.advance(xc, Lc, delta.head(N), 1.0, xn, msg)) throw std::runtime_error(msg);
         pc += dpc;
         if (dpc != 0 && !Shooter(problem_at(pc), o.shooting).project(xn, msg)) throw std::runtime_error(msg);

@@ -109,7 +109,9 @@ bool Shooter::tangent_basis(const Eigen::VectorXd& y, const mech::Model& model,
   return true;
 }
 
-Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative* dp) const {
+Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative* dp,
+                                 bool jacobian) const {
+  if (!jacobian) dp = nullptr;
   Linearization L;
   const int n = n_;
   const int ns = static_cast<int>(problem_.slow.size());
@@ -118,17 +120,19 @@ Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative*
   L.scale = scale_;
   if (!tangent_basis(x.y, *problem_.model, L.basis, L.message)) return L;
   const int m = static_cast<int>(L.basis.cols());
-  const int cols = m + ns + (dp ? 1 : 0);
+  const int cols = jacobian ? m + ns + (dp ? 1 : 0) : 0;
 
   const auto model = with_forces(problem_.model, problem_.slow, x.H);
   VariationalSetup vs;
   vs.model = model.get();
   vs.active = problem_.active;
-  for (int i = 0; i < n; ++i) vs.quadrature.push_back(i);  // every coordinate's period mean
+  vs.quadrature = problem_.slow;                      // the held means, with sensitivities
+  for (int i = 0; i < n; ++i) vs.means.push_back(i);  // every coordinate's period mean
   vs.inverse_mass_quadrature = problem_.slow;
   Eigen::MatrixXd Y0 = Eigen::MatrixXd::Zero(2 * n, cols);
-  for (int j = 0; j < m; ++j) Y0.col(j) = L.basis.col(j).cwiseQuotient(scale_);
-  if (ns > 0) {
+  if (jacobian)
+    for (int j = 0; j < m; ++j) Y0.col(j) = L.basis.col(j).cwiseQuotient(scale_);
+  if (jacobian && ns > 0) {
     vs.forces = Eigen::MatrixXd::Zero(n, cols);
     for (int k = 0; k < ns; ++k) vs.forces(problem_.slow[k], m + k) = 1.0;
   }
@@ -182,7 +186,7 @@ Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative*
   }
   // Column sizes for the error control: the z columns are unit vectors in scaled coordinates;
   // a holding-force column's position part grows like C F t²/2 over the orbit.
-  if (ns > 0) {
+  if (jacobian && ns > 0) {
     Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n, ns), X;
     mech::RhsTangent tan(*model);
     const mech::ActiveSet set = mech::ActiveSet::of(*model, problem_.active);
@@ -224,13 +228,9 @@ Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative*
   const Eigen::MatrixXd SY = scale_.asDiagonal() * vr.Y;
   L.residual.resize(m + ns);
   L.residual.head(m) = L.basis.transpose() * scale_.cwiseProduct(dy);
-  L.mean_q = vr.w / kT;
-  L.mean_slow.resize(ns);
-  Eigen::MatrixXd Wslow(ns, cols);
-  for (int k = 0; k < ns; ++k) {
-    L.mean_slow[k] = L.mean_q[problem_.slow[k]];
-    Wslow.row(k) = vr.W.row(problem_.slow[k]);
-  }
+  L.mean_q = vr.mean_integrals / kT;
+  L.mean_slow = vr.w / kT;
+  const Eigen::MatrixXd& Wslow = vr.W;
   if (ns > 0) L.residual.tail(ns) = L.mean_slow - problem_.hold;
   // The orbit's amplitude in scaled coordinates: |S (y0 − ȳ)|, ȳ = (mean q, 0) (exact for a
   // harmonic orbit: |q − q̄|² + |q̇/Ω|² = A²).
@@ -238,6 +238,17 @@ Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative*
     Eigen::VectorXd dev = x.y;
     dev.head(n) -= L.mean_q;
     L.amplitude = scale_.cwiseProduct(dev).norm();
+  }
+  if (!jacobian) {
+    const Eigen::VectorXd w = weights(x.y);
+    double sum = (w.cwiseProduct(dy)).squaredNorm();
+    for (int k = 0; k < ns; ++k)
+      sum += std::pow(L.residual[m + k] / (options_.atol + options_.rtol * std::abs(problem_.hold[k])), 2);
+    L.residual_norm = std::sqrt(sum / (2 * n + ns));
+    L.residual_max = dy.lpNorm<Eigen::Infinity>();
+    L.ok = L.residual.allFinite();
+    if (!L.ok) L.message = "the residual is not finite";
+    return L;
   }
   L.jacobian.resize(m + ns, m + ns);
   L.monodromy = L.basis.transpose() * SY.leftCols(m);
@@ -266,7 +277,7 @@ Linearization Shooter::linearize(const OrbitPoint& x, const ParameterDerivative*
     L.dr_dp.head(m) = L.basis.transpose() * scale_.cwiseProduct(dyend - Y0.col(cols - 1));
     for (int k = 0; k < ns; ++k) {
       const int i = problem_.slow[k];
-      L.dr_dp[m + k] = Wslow(k, cols - 1) / kT + vr.y[i] * dkT / kT - vr.w[i] * dkT / (kT * kT) -
+      L.dr_dp[m + k] = Wslow(k, cols - 1) / kT + vr.y[i] * dkT / kT - vr.w[k] * dkT / (kT * kT) -
                        (dp->dhold.size() == ns ? dp->dhold[k] : 0.0);
     }
   }
@@ -417,6 +428,32 @@ OrbitResult newton_shooting(const OrbitProblem& problem, const OrbitPoint& guess
                       "shrinking at " + format_significant(corr, 3) + " of the tolerance)";
       break;
     }
+    // In the quadratic regime (the correction within a thousand tolerances), take the full
+    // step and check its residual with one integration of the orbit alone: below the
+    // tolerance, Newton has converged (the monodromy is this iterate's, a correction away).
+    if (corr <= 1e3) {
+      OrbitPoint next;
+      if (sh.advance(x, L, delta, 1.0, next, msg)) {
+        const Linearization Lr = sh.linearize(next, nullptr, false);
+        account(Lr);
+        if (Lr.ok && Lr.residual_norm <= 1.0) {
+          res.history.push_back(rec);
+          NewtonRecord chk;
+          chk.iteration = it + 1;
+          chk.residual = Lr.residual_norm;
+          chk.residual_max = Lr.residual_max;
+          chk.steps = Lr.steps;
+          chk.check = true;
+          res.history.push_back(chk);
+          res.point = next;
+          res.last = L;
+          res.residual = Lr.residual_norm;
+          res.residual_max = Lr.residual_max;
+          res.converged = true;
+          break;
+        }
+      }
+    }
     if (it >= options.max_iterations) {
       res.history.push_back(rec);
       res.point = x;
@@ -488,7 +525,7 @@ OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
     VariationalSetup vs;
     vs.model = model.get();
     vs.active = problem.active;
-    for (int i = 0; i < n; ++i) vs.quadrature.push_back(i);
+    for (int i = 0; i < n; ++i) vs.means.push_back(i);
     VariationalOptions vo;
     vo.method = options.method;
     vo.kernel = options.kernel;
@@ -506,7 +543,7 @@ OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
     x.y = vr.y;
     // A held slow coordinate drifts during the transient: put its mean back to the held value.
     for (std::size_t k = 0; k < problem.slow.size(); ++k)
-      x.y[problem.slow[k]] += problem.hold[k] - vr.w[problem.slow[k]] / (chunk * kT);
+      x.y[problem.slow[k]] += problem.hold[k] - vr.mean_integrals[problem.slow[k]] / (chunk * kT);
     r = newton_shooting(problem, x, options);
     integrations += r.integrations;
     steps += r.steps;

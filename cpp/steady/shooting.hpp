@@ -115,6 +115,9 @@ struct NewtonRecord {
   double correction = 0.0;   ///< weighted norm of the full Newton correction
   double damping = 1.0;      ///< the step length the line search took
   long steps = 0;            ///< integration steps of the linearization
+  /// The residual of the final point only (no linearization there): Newton stopped because the
+  /// full step from a point in the quadratic regime left a residual below the tolerance.
+  bool check = false;
 };
 
 struct OrbitResult {
@@ -146,8 +149,10 @@ class Shooter {
   /// (y, H) with y projected onto the constraints at t0. ok = false (message) if impossible.
   bool project(OrbitPoint& x, std::string& message) const;
 
-  /// The residual and Jacobian at x (and ∂r/∂p when dp is given).
-  Linearization linearize(const OrbitPoint& x, const ParameterDerivative* dp = nullptr) const;
+  /// The residual and Jacobian at x (and ∂r/∂p when dp is given); with jacobian = false only
+  /// the residual (one integration of the orbit without the variational equations).
+  Linearization linearize(const OrbitPoint& x, const ParameterDerivative* dp = nullptr,
+                          bool jacobian = true) const;
 
   /// x + α (S⁻¹ B δz, δH), projected onto the constraints.
   bool advance(const OrbitPoint& x, const Linearization& L, const Eigen::VectorXd& delta,

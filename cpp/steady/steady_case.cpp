@@ -282,15 +282,23 @@ nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const nl
                   {"stable", r.floquet.stable},
                   {"dimension", static_cast<int>(r.floquet.multipliers.size())}};
   nlohmann::json hist = nlohmann::json::array();
-  for (const auto& h : r.history)
-    hist.push_back({{"iteration", h.iteration},
-                    {"residual", h.residual},
-                    {"residual_max", h.residual_max},
-                    {"correction", h.correction},
-                    {"damping", h.damping},
-                    {"steps", h.steps}});
+  int linearizations = 0;
+  for (const auto& h : r.history) {
+    nlohmann::json e = {{"iteration", h.iteration},
+                        {"residual", h.residual},
+                        {"residual_max", h.residual_max},
+                        {"steps", h.steps}};
+    if (h.check) {
+      e["check"] = "the residual of the final point (no linearization there)";
+    } else {
+      e["correction"] = h.correction;
+      e["damping"] = h.damping;
+      ++linearizations;
+    }
+    hist.push_back(e);
+  }
   j["newton"] = {{"converged", r.converged},
-                 {"iterations", static_cast<int>(r.history.size())},
+                 {"iterations", linearizations},
                  {"residual", r.residual},
                  {"residual_max", r.residual_max},
                  {"correction", r.correction},

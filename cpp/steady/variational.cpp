@@ -14,7 +14,7 @@ namespace {
 // The augmented state, ordered for the second-order structure (RADAU5's M1 = M2 = n (1 + m)):
 //   positions  P = [q | Yq_0 | ... | Yq_{m-1}]        (n each)
 //   velocities V = [q̇ | Yq̇_0 | ... | Yq̇_{m-1}]       (n each)
-//   quadratures    [w (nq) | W (nq x m, row-major) | Cint (nc x nc, row-major)]
+//   quadratures    [w (nq) | W (nq x m, row-major) | Cint (nc x nc, row-major) | means]
 // so that P' = V exactly and Radau's linear systems have the order of the velocity part.
 class Augmented {
  public:
@@ -27,19 +27,24 @@ class Augmented {
         m_(m),
         N_(n_ * (1 + m)),
         nq_(static_cast<int>(s.quadrature.size())),
-        nc_(static_cast<int>(s.inverse_mass_quadrature.size())) {
+        nc_(static_cast<int>(s.inverse_mass_quadrature.size())),
+        nm_(static_cast<int>(s.means.size())) {
     q_.resize(n_);
     qd_.resize(n_);
     V_.setZero(2 * n_ + 1, m_);
-    has_forces_ = s.forces.size() > 0 && s.forces.cwiseAbs().maxCoeff() > 0;
+    // Only the columns with a force need the constrained response.
+    for (int j = 0; j < m_ && s.forces.cols() == m_; ++j)
+      if (s.forces.col(j).cwiseAbs().maxCoeff() > 0) force_cols_.push_back(j);
+    has_forces_ = !force_cols_.empty();
+    const int nf = static_cast<int>(force_cols_.size());
     if (has_forces_ || nc_ > 0) {
-      B_.setZero(n_, (has_forces_ ? m_ : 0) + nc_);
-      if (has_forces_) B_.leftCols(m_) = s.forces;
-      for (int a = 0; a < nc_; ++a) B_(s.inverse_mass_quadrature[a], (has_forces_ ? m_ : 0) + a) = 1.0;
+      B_.setZero(n_, nf + nc_);
+      for (int c = 0; c < nf; ++c) B_.col(c) = s.forces.col(force_cols_[c]);
+      for (int a = 0; a < nc_; ++a) B_(s.inverse_mass_quadrature[a], nf + a) = 1.0;
     }
   }
 
-  int size() const { return 2 * N_ + nq_ + nq_ * m_ + nc_ * nc_; }
+  int size() const { return 2 * N_ + nq_ + nq_ * m_ + nc_ * nc_ + nm_; }
   int N() const { return N_; }
   int quad_offset() const { return 2 * N_; }
 
@@ -70,8 +75,8 @@ class Augmented {
     for (int j = 0; j < m_; ++j) Eigen::Map<Eigen::VectorXd>(out + N_ + (1 + j) * n, n) = tan_.dqdd.col(j);
     if (B_.cols() > 0) {
       tan_.respond(B_, X_);
-      if (has_forces_)
-        for (int j = 0; j < m_; ++j) Eigen::Map<Eigen::VectorXd>(out + N_ + (1 + j) * n, n) += X_.col(j);
+      for (std::size_t c = 0; c < force_cols_.size(); ++c)
+        Eigen::Map<Eigen::VectorXd>(out + N_ + (1 + force_cols_[c]) * n, n) += X_.col(static_cast<Eigen::Index>(c));
     }
     if (s_.parameter_term && s_.parameter_column >= 0) {
       if (!s_.parameter_term(t, q_, qd_, dp_)) {
@@ -87,9 +92,11 @@ class Augmented {
       for (int j = 0; j < m_; ++j) quad[nq_ + k * m_ + j] = y[(1 + j) * n + i];
     }
     double* cq = quad + nq_ + nq_ * m_;
-    const int c0 = has_forces_ ? m_ : 0;
+    const int c0 = static_cast<int>(force_cols_.size());
     for (int a = 0; a < nc_; ++a)
       for (int b = 0; b < nc_; ++b) cq[a * nc_ + b] = X_(s_.inverse_mass_quadrature[a], c0 + b);
+    double* mq = cq + nc_ * nc_;
+    for (int k = 0; k < nm_; ++k) mq[k] = y[s_.means[k]];
     return true;
   }
 
@@ -118,6 +125,7 @@ class Augmented {
         Ja(2 * N_ + k, i) = 1.0;
         for (int j = 0; j < m_; ++j) Ja(2 * N_ + nq_ + k * m_ + j, (1 + j) * n + i) = 1.0;
       }
+      for (int k = 0; k < nm_; ++k) Ja(2 * N_ + nq_ + nq_ * m_ + nc_ * nc_ + k, s_.means[k]) = 1.0;
       return true;
     } catch (const std::exception& e) {
       failure_ = e.what();
@@ -131,8 +139,9 @@ class Augmented {
   const VariationalSetup& s_;
   mech::ActiveSet set_;
   mech::RhsTangent tan_, jac_;
-  int n_, m_, N_, nq_, nc_;
+  int n_, m_, N_, nq_, nc_, nm_;
   bool has_forces_ = false;
+  std::vector<int> force_cols_;  ///< sensitivity columns with a force (their B_ columns first)
   Eigen::VectorXd q_, qd_, dp_;
   Eigen::MatrixXd V_, B_, X_, Jf_;
   std::string failure_;
@@ -230,6 +239,7 @@ VariationalResult integrate_variational(const VariationalSetup& setup, double t0
   res.Cint.resize(nc, nc);
   for (int a = 0; a < nc; ++a)
     for (int b = 0; b < nc; ++b) res.Cint(a, b) = r.y[o + nq + nq * m + a * nc + b];
+  res.mean_integrals = r.y.segment(o + nq + nq * m + nc * nc, static_cast<int>(setup.means.size()));
   return res;
 }
 

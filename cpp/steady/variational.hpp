@@ -37,6 +37,8 @@ struct VariationalSetup {
   /// Coordinates k whose constrained inverse-mass block is integrated: ∫ C(t)_{ab} dt for a,
   /// b in this list (the drift a slow coordinate's holding force prevents).
   std::vector<int> inverse_mass_quadrature;
+  /// Coordinates whose time integral is accumulated without sensitivities (period means).
+  std::vector<int> means;
 };
 
 struct VariationalOptions {
@@ -63,6 +65,7 @@ struct VariationalResult {
   Eigen::VectorXd w;         ///< ∫ q_i dt over [t0, t] for the quadrature coordinates
   Eigen::MatrixXd W;         ///< their sensitivities (quadrature count x m)
   Eigen::MatrixXd Cint;      ///< ∫ C_ab dt (inverse_mass_quadrature count, square)
+  Eigen::VectorXd mean_integrals;  ///< ∫ q_i dt for the `means` coordinates
   long steps = 0, accepted = 0, rejected = 0, f_evals = 0;
   bool used_explicit = false, used_radau = false;
 };
