@@ -414,7 +414,12 @@ std::string steady_report(const sim::Case& c, const nlohmann::json& s) {
     os << "  one period of the orbit, run from the periodic state as pcsim run runs a case "
           "(periodicity check: max |y(kT) - y(0)| = "
        << f(s["periodicity_check"].get<double>(), 3) << "):\n";
-    std::istringstream rep(sim::human_report(c, s["summary"]));
+    // The report of the period's run, with the period's case (its t_end and window).
+    sim::Case pc = c;
+    pc.table["solver"].as_table()->insert_or_assign("t_end", s["orbit_period"].get<double>());
+    pc.table["output"].as_table()->erase("summary_time");
+    pc.table["output"].as_table()->insert_or_assign("summary_periods", int64_t{k});
+    std::istringstream rep(sim::human_report(pc, s["summary"]));
     std::string line;
     while (std::getline(rep, line)) os << "  | " << line << "\n";
   }
