@@ -113,9 +113,9 @@ Branch continue_branch(const std::function<OrbitProblem(double)>& problem_of,
     }
     nm.scale = L.scale;
   }
-  // The state's scale in the arclength: three times the largest orbit amplitude met so far
-  // (steps then follow the parameter where the response is smooth, and bend with the branch
-  // at resonances and folds).
+  // The state's scale in the arclength: three times the largest orbit amplitude met so far, or
+  // the state's change over the range at the start's rate if larger (steps then follow the
+  // parameter where the response is smooth, and bend with the branch at resonances and folds).
   nm.Z = std::max(3 * L.amplitude, 1e3 * o.shooting.atol);
   Tangent tau;
   {
@@ -126,6 +126,19 @@ Branch continue_branch(const std::function<OrbitProblem(double)>& problem_of,
     if (!tangent_at(L, nm, start, ns, tau)) {
       b.message = "the branch's tangent at the start is undefined (a singular point)";
       return b;
+    }
+    // The state's scale also covers how far the state moves over the whole range at the
+    // start's rate (a parameter that moves the orbit as a whole, e.g. a held position, rather
+    // than its amplitude).
+    if (std::abs(tau.p) > 0) {
+      const double rate = nm.scale.cwiseProduct(tau.y).norm() / std::abs(tau.p);  // |S dy/dp|
+      if (rate * nm.P > nm.Z) {
+        nm.Z = rate * nm.P;
+        if (!tangent_at(L, nm, start, ns, tau)) {
+          b.message = "the branch's tangent at the start is undefined (a singular point)";
+          return b;
+        }
+      }
     }
   }
   BranchPoint first;
