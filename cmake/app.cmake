@@ -2,7 +2,7 @@
 # itself (see cpp/cli/commands.hpp). It links the most complete component that exists.
 file(GLOB PCSIM_CLI_SOURCES CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/cpp/cli/*.cpp")
 set(_pcsim_top)
-foreach(c study sieve mech radau huang)
+foreach(c steady study sieve mech radau huang)
   if(TARGET pcsim_${c} AND NOT _pcsim_top)
     set(_pcsim_top pcsim_${c})
   endif()

@@ -5,7 +5,7 @@ if(NOT TARGET pcsim_mech OR NOT TARGET pcsim_modelfile)
   return()
 endif()
 # The built-in model files, embedded into the library (regenerated when a file changes).
-set(PCSIM_EMBEDDED_MODELS sieve_1995 pendulum rolling_disk slider_crank)
+set(PCSIM_EMBEDDED_MODELS sieve_1995 sieve_1995_runup pendulum rolling_disk slider_crank)
 set(_embedded_cpp "${CMAKE_BINARY_DIR}/generated/embedded_models.cpp")
 set(_embedded_deps)
 foreach(m IN LISTS PCSIM_EMBEDDED_MODELS)

@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "cli/commands.hpp"
+#include "cli/plot_response.hpp"
 #include "common/error.hpp"
 
 namespace {
@@ -111,14 +112,29 @@ std::vector<Band> mode_bands(const fs::path& events, const nlohmann::json& s, do
 
 void plot(const std::string& dir_text) {
   const fs::path dir(dir_text);
-  const fs::path csv = dir / "timeseries.csv", sum = dir / "summary.json";
+  if (pcsim::cli::is_response_dir(dir)) {  // `pcsim response`: the response curves
+    if (!on_path("gnuplot"))
+      throw pcsim::InputError("pcsim plot needs gnuplot, which is not on PATH: install it (Debian: "
+                              "apt-get install gnuplot-nox, or run scripts/install-deps.sh)");
+    pcsim::cli::plot_response(dir);
+    return;
+  }
+  // `pcsim run` writes summary.json; `pcsim steady` writes steady.json, whose "summary" is the
+  // same summary of one period of the orbit.
+  const fs::path csv = dir / "timeseries.csv", run_sum = dir / "summary.json",
+                 steady_sum = dir / "steady.json";
+  const bool steady = !fs::exists(run_sum) && fs::exists(steady_sum);
+  const fs::path sum = steady ? steady_sum : run_sum;
   if (!fs::exists(csv) || !fs::exists(sum))
     throw pcsim::InputError(dir_text + ": expected the output of `pcsim run` (timeseries.csv "
-                                       "and summary.json)");
+                                       "and summary.json), `pcsim steady` (timeseries.csv and "
+                                       "steady.json) or `pcsim response` (response.csv and "
+                                       "response.json)");
   nlohmann::json s;
   try {
     std::ifstream in(sum);
     s = nlohmann::json::parse(in);
+    if (steady) s = s.at("summary");
   } catch (const std::exception& e) {
     throw pcsim::InputError(sum.string() + ": not a readable summary (" + e.what() + ")");
   }
@@ -330,9 +346,10 @@ void plot(const std::string& dir_text) {
 void setup(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   CLI::App* sub = app.add_subcommand(
-      "plot", "PNG figures (gnuplot) of a `pcsim run` output directory: for the sieve theta, R_u, "
-              "f*, x and y (and u with switching contacts); for any other model its coordinates, "
-              "reactions and outputs; flights and slips of switching contacts shaded");
+      "plot", "PNG figures (gnuplot) of a `pcsim run` or `pcsim steady` output directory (for "
+              "the sieve theta, R_u, f*, x and y, and u with switching contacts; for any other "
+              "model its coordinates, reactions and outputs; flights and slips of switching "
+              "contacts shaded), or the response curves of a `pcsim response` directory");
   sub->add_option("dir", *dir, "the output directory of `pcsim run`, e.g. out/sieve_1995")
       ->required();
   sub->callback([dir]() { plot(*dir); });

@@ -43,6 +43,14 @@ void run(const RunArgs& a) {
                                       : std::filesystem::path(a.out_dir);
   const nlohmann::json summary = pcsim::sim::run_case(c, options);
   std::fputs(pcsim::sim::human_report(c, summary).c_str(), stdout);
+  if (summary.contains("initial_state")) {  // initial.from = "equilibrium"
+    const auto& e = summary["initial_state"];
+    std::printf("  started from the static equilibrium (initial.from): force imbalance %.2g",
+                e["force_imbalance"].get<double>());
+    for (auto it = e["holding_forces"].begin(); it != e["holding_forces"].end(); ++it)
+      std::printf(", %s held by %.4g", it.key().c_str(), it.value().get<double>());
+    std::printf("\n");
+  }
   if (summary.contains("switching"))
     std::printf("  wrote %s, %s and %s\n", (*options.out_dir / "summary.json").string().c_str(),
                 (*options.out_dir / "timeseries.csv").string().c_str(),

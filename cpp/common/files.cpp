@@ -61,7 +61,8 @@ bool is_pcsim_output(const fs::path& dir) {
   if (!fs::exists(dir, ec)) return true;
   if (!fs::is_directory(dir, ec)) return false;
   if (fs::is_empty(dir, ec)) return true;
-  return fs::exists(dir / "summary.json", ec) || fs::exists(dir / "steady.json", ec);
+  return fs::exists(dir / "summary.json", ec) || fs::exists(dir / "steady.json", ec) ||
+         fs::exists(dir / "response.json", ec);
 }
 
 }  // namespace
@@ -109,7 +110,7 @@ OutputDirectory::OutputDirectory(fs::path dir) : dir_(std::move(dir)) {
     lock_fd_ = -1;
     throw InputError("output directory " + dir_.string() +
                      " exists and is not a pcsim output directory (it is not empty and has no "
-                     "summary.json); pcsim replaces its output directory as a whole, so choose "
+                     "summary.json, steady.json or response.json); pcsim replaces its output directory as a whole, so choose "
                      "another --out");
   }
   staging_ = parent / ("." + dir_.filename().string() + ".staging-" + unique_suffix());

@@ -29,7 +29,7 @@ void write_file_atomically(const std::filesystem::path& file, const std::string&
 /// - the constructor takes an exclusive lock (flock on the hidden sibling file
 ///   `<parent>/.<name>.lock`), so a second pcsim writing to the same directory is refused at
 ///   once with InputError; it checks that the directory is absent, empty or a pcsim output
-///   directory (it holds a summary.json or steady.json), so that pcsim never
+///   directory (it holds a summary.json, steady.json or response.json), so that pcsim never
 ///   replaces a user's directory; and it creates a staging directory beside it;
 /// - write() puts files into the staging directory;
 /// - commit() swaps the staging directory with the target in one atomic step

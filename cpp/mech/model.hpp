@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -121,6 +122,36 @@ class Model {
   virtual void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                        const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                        Eigen::VectorXd& out) const = 0;
+
+  // ---- exact tangents (optional) ------------------------------------------------------------
+  // Forward-mode directional derivatives of M, h, Q and the constraint rows with respect to
+  // (q, q̇, t), k directions at once: V is (2n + 1) x k, each column a direction (δq, δq̇, δt);
+  // the outputs are the values (as above) and, per direction j, dM[j] (n x n), dh.col(j),
+  // dQ.col(j), dg[j] (s x n), dg0.col(j), dgamma.col(j). Models from model files have them
+  // (exact, from the tape); the C++ AD models (make_model) do not: has_tangents() is false and
+  // the calls throw std::logic_error. The engine's exact Jacobian (mech/tangent.hpp) needs them.
+
+  /// True if the three *_tangent calls below are available.
+  virtual bool has_tangents() const { return false; }
+  virtual void kinetic_terms_tangent(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                     const Eigen::MatrixXd& V, Eigen::MatrixXd& M,
+                                     Eigen::VectorXd& h, std::vector<Eigen::MatrixXd>& dM,
+                                     Eigen::MatrixXd& dh) const {
+    throw std::logic_error("model '" + name_ + "' has no exact tangents");
+  }
+  virtual void forces_tangent(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                              const Eigen::MatrixXd& V, Eigen::VectorXd& Q,
+                              Eigen::MatrixXd& dQ) const {
+    throw std::logic_error("model '" + name_ + "' has no exact tangents");
+  }
+  virtual void constraint_rows_tangent(const std::vector<int>& active, double t,
+                                       const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                       const Eigen::MatrixXd& V, Eigen::MatrixXd& g,
+                                       Eigen::VectorXd& g0, Eigen::VectorXd& gamma,
+                                       std::vector<Eigen::MatrixXd>& dg, Eigen::MatrixXd& dg0,
+                                       Eigen::MatrixXd& dgamma) const {
+    throw std::logic_error("model '" + name_ + "' has no exact tangents");
+  }
 
  protected:
   std::string name_;

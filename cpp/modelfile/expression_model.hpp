@@ -81,17 +81,19 @@ class ExpressionModel final : public mech::Model {
   // above) and their directional derivatives, e.g. dM[j] = Σ_l (∂M/∂q_l δq_l + ∂M/∂q̇_l δq̇_l)
   // + ∂M/∂t δt for column j. Output containers are resized if needed (allocation only then).
 
+  bool has_tangents() const override { return true; }
   void kinetic_terms_tangent(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                              const Eigen::MatrixXd& V, Eigen::MatrixXd& M, Eigen::VectorXd& h,
-                             std::vector<Eigen::MatrixXd>& dM, Eigen::MatrixXd& dh) const;
+                             std::vector<Eigen::MatrixXd>& dM, Eigen::MatrixXd& dh) const override;
   void forces_tangent(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-                      const Eigen::MatrixXd& V, Eigen::VectorXd& Q, Eigen::MatrixXd& dQ) const;
+                      const Eigen::MatrixXd& V, Eigen::VectorXd& Q,
+                      Eigen::MatrixXd& dQ) const override;
   /// dg[j] is s x n, dg0 and dgamma are s x k.
   void constraint_rows_tangent(const std::vector<int>& active, double t, const Eigen::VectorXd& q,
                                const Eigen::VectorXd& qd, const Eigen::MatrixXd& V,
                                Eigen::MatrixXd& g, Eigen::VectorXd& g0, Eigen::VectorXd& gamma,
                                std::vector<Eigen::MatrixXd>& dg, Eigen::MatrixXd& dg0,
-                               Eigen::MatrixXd& dgamma) const;
+                               Eigen::MatrixXd& dgamma) const override;
 
   const CompiledModel& compiled() const { return *compiled_; }
   /// The constant region (parameters, hidden constants, prelude results).

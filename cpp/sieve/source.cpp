@@ -71,9 +71,15 @@ class SieveSource final : public sim::ModelSource {
         par("u0", d.u0, "m", "roller centre height over C"),
         par("f", d.f, "", "friction coefficient roller/deck", pos, true),
         // Issue 12: the restitution of a landing when contacts switch (contact.switching).
+        // Not in the paper: the exciter's run-up for transient studies (docs/steady.md).
+        par("t_runup", 0.0, "s",
+            "exciter run-up time: its speed ramps from 0 to omega over it (models/"
+            "sieve_1995_runup.toml); 0: at full speed from t = 0, as in the paper",
+            pos),
+        // Issue 12: the restitution of a landing when contacts switch (contact.switching).
         par("e_n", 0.0, "", "Newton's restitution roller/deck (with contact.switching)", pos),
     };
-    parameters_.back().max = 1.0;
+    parameters_.back().max = 1.0;  // e_n <= 1
     for (const char* c : kCoordinateNames) coordinates_.push_back(c);
     constraints_ = {{"contact", mech::ConstraintKind::holonomic, true, "(3.1) u = u0", true, ""},
                     {"rolling", mech::ConstraintKind::holonomic, true,
@@ -92,6 +98,10 @@ class SieveSource final : public sim::ModelSource {
     return (it != p.end() && it->second > 0) ? 2 * kPi / it->second
                                              : std::numeric_limits<double>::quiet_NaN();
   }
+  // The roller drifts slowly along the statically tilted deck (models/sieve_1995.toml).
+  std::vector<std::string> slow_coordinates() const override {
+    return sim::embedded_description("sieve_1995")->slow_coordinates();
+  }
   // The default: the paper's model as a model file (models/sieve_1995.toml, embedded), T (3.4)
   // and Q (3.4a)-(3.4f) with the errata, derived symbolically and evaluated from a flat tape.
   // The variants are the C++ forms of the same machine (sieve/model.hpp): "closed_form" (the
@@ -101,8 +111,20 @@ class SieveSource final : public sim::ModelSource {
                                                  const Eigen::VectorXd& q0, double t0,
                                                  const toml::table& case_table,
                                                  const std::string& variant) const override {
-    if (variant.empty() || variant == "model_file")
-      return sim::embedded_description("sieve_1995")->instantiate(parameters, q0, t0);
+    sim::ParameterValues p = parameters;
+    const auto tr = p.find("t_runup");
+    const double t_runup = tr == p.end() ? 0.0 : tr->second;
+    if (tr != p.end()) p.erase(tr);
+    if (variant.empty() || variant == "model_file") {
+      if (t_runup > 0) {
+        p["t_runup"] = t_runup;
+        return sim::embedded_description("sieve_1995_runup")->instantiate(p, q0, t0);
+      }
+      return sim::embedded_description("sieve_1995")->instantiate(p, q0, t0);
+    }
+    if (t_runup > 0)
+      throw InputError("parameters.t_runup: the sieve's model variant '" + variant +
+                       "' has no exciter run-up (only the default model file has one)");
     const SieveSettings set = settings_from_table(case_table);
     ModelForm form = ModelForm::closed_form;
     if (variant == "geometric") form = ModelForm::geometric;

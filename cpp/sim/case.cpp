@@ -2,6 +2,7 @@
 // constraints, the client's extras), --set overrides, defaults, validation, setup_of, to_toml.
 #include "sim/case.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -123,6 +124,18 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   for (const auto& c : m.coordinates()) {
     keys.push_back(number_key("initial", c, "initial " + c, std::nullopt));
     keys.push_back(number_key("initial", c + "_d", "initial velocity of " + c, std::nullopt));
+  }
+  if (std::find(m.coordinates().begin(), m.coordinates().end(), "from") == m.coordinates().end()) {
+    KeySpec from;
+    from.section = "initial";
+    from.name = "from";
+    from.type = Type::string;
+    from.meaning = "where the run starts: \"state\", the [initial] values as given (the default), "
+                   "or \"equilibrium\", the static equilibrium under the forces at rest averaged "
+                   "over an excitation period, slow coordinates held at their [initial] values "
+                   "(docs/steady.md)";
+    from.choices = {"state", "equilibrium"};
+    keys.push_back(from);
   }
   for (const auto& c : m.constraints()) {
     KeySpec s;
@@ -668,6 +681,7 @@ Setup setup_of(const Case& c) {
   s.h0 = t["solver"]["h0"].value_or(0.0);
   s.max_steps = static_cast<long>(t["solver"]["max_steps"].value_or(int64_t{1000000}));
   s.dt = t["output"]["dt"].value_or(1e-3);
+  s.equilibrium_start = t["initial"]["from"].value_or(std::string("state")) == "equilibrium";
   s.period = m.period(s.parameters);
   if (auto k = t["output"]["summary_periods"].value<int64_t>()) {
     s.window.periods = static_cast<int>(*k);

@@ -109,6 +109,9 @@ struct Setup {
   double rtol = 1e-6, atol = 1e-8, t_end = 10.0, h0 = 0.0;
   long max_steps = 1000000;
   double dt = 1e-3;                     ///< time-series interval
+  /// initial.from = "equilibrium": the run starts from the static equilibrium (run_case solves
+  /// it from q0, slow coordinates held; docs/steady.md) instead of (q0, qd0).
+  bool equilibrium_start = false;
   WindowSpec window;
   double period = std::numeric_limits<double>::quiet_NaN();  ///< excitation period, NaN if none
   /// [contact] (issue 12): switch the unilateral constraints (lift-off, impact, slip, stick).

@@ -56,6 +56,7 @@ class FileModelSource final : public ModelSource {
   const std::vector<ConstraintOffer>& constraints() const override { return constraints_; }
   const std::vector<std::string>& outputs() const override { return outputs_; }
   double period(const ParameterValues& p) const override { return d_->period(p); }
+  std::vector<std::string> slow_coordinates() const override { return d_->slow_coordinates(); }
 
   std::shared_ptr<const ModelSource> with_added_constraints(
       const std::vector<AddedConstraint>& added, const std::string& where) const override {

@@ -68,6 +68,9 @@ class ModelSource {
   virtual std::string fingerprint() const { return origin(); }
   /// The excitation period for these parameter values; NaN if the model declares none.
   virtual double period(const ParameterValues& parameters) const = 0;
+  /// The model's slow coordinates ([model] slow): held at their value by `pcsim steady` and by
+  /// the static equilibrium (docs/steady.md). Default: none.
+  virtual std::vector<std::string> slow_coordinates() const { return {}; }
 
   /// The same model with holonomic constraints added; throws pcsim::InputError (naming `where`
   /// and the constraint) if this model cannot take them or an expression is bad.

@@ -14,6 +14,7 @@
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
+#include "mech/projection.hpp"
 #include "mech/simulation.hpp"
 #include "mech/switching.hpp"
 #include "sim/switching_summary.hpp"
@@ -180,7 +181,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
 
   const double rows = std::floor(set.t_end / set.dt) + 2;
-  if (options.out_dir && !(rows <= kMaxOutputRows))
+  if ((options.out_dir || options.directory) && !(rows <= kMaxOutputRows))
     throw InputError(where + ": key 'output.dt': expected at most " +
                      format_number(kMaxOutputRows) + " time-series rows (solver.t_end / output.dt), "
                      "got " + format_significant(rows, 3) + " rows; raise output.dt");
@@ -188,16 +189,42 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   // The output directory first: a second run into it is refused before any computation.
   std::unique_ptr<OutputDirectory> out;
   OutputStream csv;
-  if (options.out_dir) {
+  OutputDirectory* dir = options.directory;
+  if (options.out_dir && !dir) {
     out = std::make_unique<OutputDirectory>(*options.out_dir);
-    csv = out->open("timeseries.csv");
+    dir = out.get();
+  }
+  if (dir) {
+    csv = dir->open("timeseries.csv");
     std::string& h = csv.buffer();
     const auto cols = timeseries_columns(c);
     for (std::size_t i = 0; i < cols.size(); ++i) h += (i ? "," : "") + cols[i];
     h += '\n';
   }
 
-  const auto model = source.instantiate(set.parameters, set.q0, 0.0, c.table, options.variant);
+  std::shared_ptr<const mech::Model> model =
+      source.instantiate(set.parameters, set.q0, 0.0, c.table, options.variant);
+  Eigen::VectorXd q0 = set.q0, qd0 = set.qd0;
+  nlohmann::json start_json;
+  if (options.start) {
+    q0 = options.start->first;
+    qd0 = options.start->second;
+  } else if (set.equilibrium_start) {
+    const mech::EquilibriumResult e = case_equilibrium(c, set, *model);
+    q0 = e.q;
+    qd0.setZero();
+    start_json["from"] = "equilibrium";
+    nlohmann::json q = nlohmann::json::object();
+    for (int i = 0; i < n; ++i) q[source.coordinates()[i]] = e.q[i];
+    start_json["q"] = q;
+    start_json["force_imbalance"] = e.residual;
+    const auto slow = source.slow_coordinates();
+    nlohmann::json held = nlohmann::json::object();
+    for (std::size_t k = 0; k < slow.size() && k < static_cast<std::size_t>(e.holding_force.size()); ++k)
+      held[slow[k]] = e.holding_force[k];
+    start_json["holding_forces"] = held;
+  }
+  if (options.wrap_model) model = options.wrap_model(model);
 
   mech::SimulationOptions so;
   so.kernel = set.kernel;
@@ -228,7 +255,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
 
   const int n_out = static_cast<int>(source.outputs().size());
   std::unique_ptr<RowWriter> writer;
-  if (out) {
+  if (dir) {
     const int modes = static_cast<int>(switched_contacts(c).size());  // with contact.switching
     std::vector<std::string> labels;
     for (auto m : {mech::ContactMode::flight, mech::ContactMode::contact, mech::ContactMode::stick,
@@ -252,7 +279,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
     sw.lcp_solver = set.contact.lcp_solver == "enumerative" ? lcp::LcpSolver::enumerative
                                                              : lcp::LcpSolver::lemke;
     sres = mech::simulate_switching(
-        *model, set.q0, set.qd0, so, sw,
+        *model, q0, qd0, so, sw,
         [&](const mech::StepView& v, const std::vector<mech::ContactMode>& modes) {
           if (client_mon && !client_mon->observe(v)) {
             stopped_by_client = true;
@@ -263,7 +290,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
         });
   } else {
     static_cast<mech::SimulationResult&>(sres) = mech::simulate(
-        *model, set.q0, set.qd0, so, [&](const mech::StepView& v) {
+        *model, q0, qd0, so, [&](const mech::StepView& v) {
           if (client_mon && !client_mon->observe(v)) {
             stopped_by_client = true;
             return false;
@@ -341,6 +368,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   j["output_dt"] = set.dt;
   j["initial_correction"] = {{"position", res.initial_correction_pos},
                              {"velocity", res.initial_correction_vel}};
+  if (!start_json.is_null()) j["initial_state"] = start_json;
   j["complete"] = complete;
   if (set.contact.switching) j["switching"] = switching_summary(sres, set);
   if (client_mon) client_mon->finish(res, ext, j);
@@ -356,6 +384,8 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
     if (set.contact.switching) out->write("events.csv", events_csv(sres));
     out->write("summary.json", j.dump(2) + "\n");
     out->commit();
+  } else if (dir) {
+    writer->finish();
   }
   if (!complete)
     throw NumericalError("case '" + c.name + "': " + client_mon->stop_reason() +
@@ -364,6 +394,27 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
                                   : std::string()),
                          client_mon->stop_time());
   return j;
+}
+
+mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& set, const mech::Model& model) {
+  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  if (!model.has_tangents())
+    throw InputError(where + ": key 'initial.from': \"equilibrium\" needs a model with exact "
+                     "tangents (a model file; the " + c.model->origin() + " instance has none)");
+  std::vector<int> active;
+  std::string msg;
+  if (mech::resolve_constraints(model, set.active, active, msg) != mech::ModelIssue::none)
+    throw InputError(where + ": " + msg);
+  mech::EquilibriumOptions eo;
+  eo.period = set.period;
+  for (const auto& name : c.model->slow_coordinates()) {
+    const int i = c.model->coordinate_index(name);
+    if (i >= 0) eo.held.push_back(i);
+  }
+  mech::EquilibriumResult e = mech::static_equilibrium(model, active, set.q0, eo);
+  if (e.issue != mech::ModelIssue::none)
+    throw NumericalError("case '" + c.name + "': initial.from = \"equilibrium\": " + e.message, 0.0);
+  return e;
 }
 
 std::string human_report(const Case& c, const nlohmann::json& s) {

@@ -4,11 +4,19 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+
+#include <Eigen/Dense>
 
 #include <nlohmann/json.hpp>
 
+#include "common/files.hpp"
+#include "mech/equilibrium.hpp"
+#include "mech/model.hpp"
 #include "sim/case.hpp"
 
 namespace pcsim::sim {
@@ -18,6 +26,10 @@ namespace pcsim::sim {
 inline constexpr double kMaxOutputRows = 1e7;
 
 struct RunOptions {
+  RunOptions() = default;
+  /// RunOptions{out_dir, variant}, as before the internal fields below existed.
+  RunOptions(std::optional<std::filesystem::path> out, std::string v = "")
+      : out_dir(std::move(out)), variant(std::move(v)) {}
   /// Where to write timeseries.csv and summary.json; nullopt writes nothing (sweeps). The
   /// directory is locked for the run and replaced as a whole at its end (common/files.hpp).
   std::optional<std::filesystem::path> out_dir;
@@ -25,7 +37,23 @@ struct RunOptions {
   /// to ModelSource::instantiate ("" = the default; the sieve offers "closed_form", "geometric",
   /// "analytic" for the benchmarks and tests).
   std::string variant;
+  // Internal (pcsim steady: one period of a periodic orbit through the same run and summary):
+  /// wraps the instantiated model (the holding forces of slow coordinates);
+  std::function<std::shared_ptr<const mech::Model>(std::shared_ptr<const mech::Model>)> wrap_model;
+  /// starts from this state (q, q̇) instead of the case's (the constants of from_initial
+  /// constraints still come from the case's initial values);
+  std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> start;
+  /// writes timeseries.csv into this directory, which the caller owns and commits, instead of
+  /// out_dir (summary.json is then the caller's to write).
+  OutputDirectory* directory = nullptr;
 };
+
+/// The static equilibrium a case starts from with initial.from = "equilibrium": the forces at
+/// rest averaged over one excitation period (the model's period; at t = 0 if it has none),
+/// balanced by the reactions of the active constraints, the model's slow coordinates held at
+/// their initial values (mech/equilibrium.hpp). Throws pcsim::NumericalError (no equilibrium)
+/// or pcsim::InputError (a model without exact tangents).
+mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& setup, const mech::Model& model);
 
 /// Runs the case to solver.t_end and returns summary.json's content. Thread-safe: concurrent
 /// calls on different cases share nothing. Throws pcsim::InputError for what the case asks that
