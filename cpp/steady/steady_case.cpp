@@ -49,6 +49,16 @@ CaseOrbit::CaseOrbit(const sim::Case& c, int periods, std::string key)
     throw InputError(w + ": the " + c.model->origin() +
                      " declares no excitation period, which a periodic steady state needs (a "
                      "model file declares it in [model], e.g. period = \"2*pi/omega\")");
+  // The orbit is the smooth system's, with every contact held; its verdicts say whether it is
+  // physical. A steady state of a switching system (a hybrid periodic orbit through lift-offs
+  // and landings) is a different problem that shooting here does not solve: refuse it rather
+  // than report the smooth orbit under a switching heading.
+  if (setup_.contact.switching)
+    throw InputError(w + ": key 'contact.switching': expected false for pcsim steady and pcsim "
+                     "response (the periodic orbit is the smooth system's with its contacts "
+                     "held; its verdicts say whether a contact would open). For the motion "
+                     "after a contact opens, run the case with pcsim run and a long "
+                     "solver.t_end");
   if (!key_.empty()) {
     const auto dot = key_.find('.');
     const std::string section = key_.substr(0, dot), name = dot == std::string::npos ? "" : key_.substr(dot + 1);

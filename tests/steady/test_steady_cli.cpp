@@ -111,6 +111,17 @@ BOOST_AUTO_TEST_CASE(what_steady_and_response_cannot_do_is_refused_before_comput
     const auto r = run_pcsim("response " + kSieve + " --vary parameters.omgea=1,2", dir);
     BOOST_TEST(r.status == 2, r.output);
   }
+  // A switching case: the orbit shooting finds is the smooth one with the contacts held, so
+  // a switching steady state is refused rather than reported under its heading (issue 12/13).
+  for (const char* cmd : {"steady ", "response "}) {
+    const auto out = dir / (std::string("o3") + cmd[0]);
+    const auto r = run_pcsim(std::string(cmd) + kSieve + " --set contact.switching=true" +
+                                 (cmd[0] == 'r' ? " --vary parameters.omega=280,281" : "") +
+                                 " --out '" + out.string() + "'", dir);
+    BOOST_TEST(r.status == 2, r.output);
+    BOOST_TEST(r.output.find("key 'contact.switching': expected false") != std::string::npos, r.output);
+    BOOST_TEST(!fs::exists(out));
+  }
 }
 
 BOOST_AUTO_TEST_CASE(response_at_listed_values_writes_its_table_and_curves) {
