@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/error.hpp"
 #include "common/format.hpp"
 #include "sieve/source.hpp"
 #include "sim/case.hpp"
@@ -107,8 +108,9 @@ void compare(const std::string& file, const std::string& label, int repeats) {
   std::printf("  speed-up %.1fx at %s accuracy (errors %.1e vs %.1e); %.0fx against the run before "
               "issue 14\n",
               t_run / t_steady, e_steady <= e_run ? "better" : "worse", e_steady, e_run, t_old / t_steady);
-  // Equal accuracy: pcsim steady at looser tolerances, as long as its error stays below the
-  // run's (the run's own tolerance cannot make it more accurate: its error is drift/transient).
+  // Equal accuracy: pcsim steady at looser tolerances (its error stays far below the run's: the
+  // run's error is drift or transient, which its own tolerance does not reduce).
+  std::vector<std::pair<double, double>> steady_points = {{t_steady, e_steady}};  // (time, error)
   for (const char* rtol : {"1e-5", "1e-4", "1e-3"}) {
     const sim::Case loose = sim::load_case(file, {{"initial.s0", format_number(run["q_end"]["s"].get<double>())},
                                                   {"solver.rtol", rtol}});
@@ -116,8 +118,40 @@ void compare(const std::string& file, const std::string& label, int repeats) {
     const double t = min_time(repeats, [&] { sl = steady::steady_case(loose, o); });
     std::string w;
     const double e = worst_error(sl["summary"], ref, &w);
+    steady_points.emplace_back(t, e);
     std::printf("  %-44s %9.4f %9.2f  %.2e (%s)%s\n", ("pcsim steady at rtol " + std::string(rtol)).c_str(), t,
                 t_run / t, e, w.c_str(), e <= e_run ? "" : "  [less accurate than the run]");
+  }
+  // The cheapest pcsim steady at least as accurate as a given error.
+  const auto steady_at = [&](double err) {
+    double best = -1;
+    for (const auto& [t, e] : steady_points)
+      if (e <= err && (best < 0 || t < best)) best = t;
+    return best;
+  };
+  // Longer runs: their error against the reference held where each ends. Where it is the
+  // transient (theta locked) it falls with the slowest mode until the run's integration error
+  // (rtol 1e-6) is reached; where it is the drift (the paper's case) the roller leaves the deck
+  // first. Each run is set against the cheapest pcsim steady that is at least as accurate.
+  std::printf("  equal accuracy: each run against the cheapest pcsim steady above at least as accurate\n");
+  std::printf("  %-44s %9.4f %9s  %.2e  steady %.1fx faster\n", "pcsim run, 10 s", t_run, "", e_run,
+              t_run / steady_at(e_run));
+  for (const char* t_end : {"15", "20", "30"}) {
+    const sim::Case longer = sim::load_case(file, {{"solver.t_end", t_end}});
+    nlohmann::json lr;
+    double t = 0;
+    try {
+      t = min_time(std::min(repeats, 3), [&] { lr = sim::run_case(longer); });
+    } catch (const NumericalError& e) {  // the paper's roller leaves the deck near 15 s
+      std::printf("  %-44s   %s\n", ("pcsim run, " + std::string(t_end) + " s").c_str(), e.what());
+      break;
+    }
+    const sim::Case lref = sim::load_case(file, {{"initial.s0", format_number(lr["q_end"]["s"].get<double>())},
+                                                 {"solver.rtol", "1e-11"}, {"solver.atol", "1e-15"}});
+    const double e = worst_error(lr, steady::steady_case(lref, o)["summary"]);
+    const double ts = steady_at(e);
+    std::printf("  %-44s %9.4f %9s  %.2e  steady %.1fx faster\n", ("pcsim run, " + std::string(t_end) + " s").c_str(),
+                t, "", e, t / ts);
   }
   std::printf("\n");
 }
