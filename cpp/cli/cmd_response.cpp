@@ -30,12 +30,9 @@ struct ResponseArgs {
 };
 
 void run(const ResponseArgs& a) {
-  std::vector<pcsim::sim::Override> overrides;
-  for (const auto& s : a.sets) overrides.push_back(pcsim::sim::parse_override(s));
-  for (const auto& s : a.added) {
-    const pcsim::sim::Override o = pcsim::sim::parse_override(s);
-    overrides.emplace_back("constraints.added." + o.first, o.second);
-  }
+  // --constraint NAME=EXPR adds a holonomic constraint: the same as
+  // --set constraints.added.NAME="EXPR".
+  std::vector<pcsim::sim::Override> overrides = pcsim::sim::command_line_overrides(a.sets, a.added);
   const auto method = pcsim::parse_ode_method(a.method);
   if (!method) throw pcsim::InputError("--method: expected radau, explicit or auto, got '" + a.method + "'");
   if (a.periods < 1) throw pcsim::InputError("--periods: expected an integer >= 1, got " + std::to_string(a.periods));

@@ -26,14 +26,9 @@ struct RunArgs {
 };
 
 void run(const RunArgs& a) {
-  std::vector<pcsim::sim::Override> overrides;
-  for (const auto& s : a.sets) overrides.push_back(pcsim::sim::parse_override(s));
   // --constraint NAME=EXPR adds a holonomic constraint: the same as
   // --set constraints.added.NAME="EXPR".
-  for (const auto& s : a.added) {
-    const pcsim::sim::Override o = pcsim::sim::parse_override(s);
-    overrides.emplace_back("constraints.added." + o.first, o.second);
-  }
+  std::vector<pcsim::sim::Override> overrides = pcsim::sim::command_line_overrides(a.sets, a.added);
   // --kernel and --form are the same as --set solver.kernel=... / solver.form=... and win.
   if (!a.kernel.empty()) overrides.emplace_back("solver.kernel", a.kernel);
   if (!a.form.empty()) overrides.emplace_back("solver.form", a.form);

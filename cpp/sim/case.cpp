@@ -577,6 +577,17 @@ Override parse_override(const std::string& text) {
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
+std::vector<Override> command_line_overrides(const std::vector<std::string>& sets,
+                                             const std::vector<std::string>& added_constraints) {
+  std::vector<Override> overrides;
+  for (const auto& s : sets) overrides.push_back(parse_override(s));
+  for (const auto& s : added_constraints) {
+    const Override o = parse_override(s);
+    overrides.emplace_back("constraints.added." + o.first, o.second);
+  }
+  return overrides;
+}
+
 Case load_case(const fs::path& file, const std::vector<Override>& overrides) {
   std::error_code ec;
   if (fs::is_directory(file, ec)) throw InputError(file.string() + ": is a directory, not a case file");

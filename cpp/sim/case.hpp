@@ -63,6 +63,11 @@ inline constexpr std::size_t kMaxCaseBytes = 16u << 20;
 /// Splits "KEY=VALUE"; throws pcsim::InputError if there is no '='.
 Override parse_override(const std::string& text);
 
+/// The overrides of a command line: each --set KEY=VALUE, then each --constraint NAME=EXPR as
+/// constraints.added.NAME=EXPR (an added holonomic constraint).
+std::vector<Override> command_line_overrides(const std::vector<std::string>& sets,
+                                             const std::vector<std::string>& added_constraints);
+
 /// Loads the case file, resolves its model (a built-in name, a model file relative to the case
 /// file, or an inline [model] table), applies the overrides in order, fills the defaults and
 /// validates every key. Throws pcsim::InputError naming the file, the key and what was expected.

@@ -6,11 +6,7 @@ namespace pcsim::steady {
 
 OwnReactionModel::OwnReactionModel(std::shared_ptr<const mech::Model> inner, std::vector<int> active,
                                    std::vector<int> held)
-    : inner_(std::move(inner)), active_(std::move(active)) {
-  name_ = inner_->name();
-  coordinates_ = inner_->coordinates();
-  constraints_ = inner_->constraints();
-  derived_names_ = inner_->derived_names();
+    : ForwardingModel(std::move(inner)), active_(std::move(active)) {
   for (int h : held) {
     const auto it = std::find(active_.begin(), active_.end(), h);
     if (it != active_.end()) held_rows_.push_back(static_cast<int>(it - active_.begin()));

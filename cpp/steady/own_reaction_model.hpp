@@ -7,58 +7,22 @@
 #include <memory>
 #include <vector>
 
-#include "mech/model.hpp"
+#include "mech/forwarding_model.hpp"
 
 namespace pcsim::steady {
 
-class OwnReactionModel final : public mech::Model {
+class OwnReactionModel final : public mech::ForwardingModel {
  public:
   /// active: the run's active constraints (row order); held: those (indices into the model's
   /// constraints, a subset of active) whose share is removed before the outputs see R.
   OwnReactionModel(std::shared_ptr<const mech::Model> inner, std::vector<int> active,
                    std::vector<int> held);
 
-  void kinetic_terms(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-                     Eigen::MatrixXd& M, Eigen::VectorXd& h) const override {
-    inner_->kinetic_terms(t, q, qd, M, h);
-  }
-  void forces(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-              Eigen::VectorXd& Q) const override {
-    inner_->forces(t, q, qd, Q);
-  }
-  void constraint_rows(const std::vector<int>& active, double t, const Eigen::VectorXd& q,
-                       const Eigen::VectorXd& qd, Eigen::MatrixXd& g, Eigen::VectorXd& g0,
-                       Eigen::VectorXd& gamma) const override {
-    inner_->constraint_rows(active, t, q, qd, g, g0, gamma);
-  }
-  double position_residual(int i, double t, const Eigen::VectorXd& q) const override {
-    return inner_->position_residual(i, t, q);
-  }
   void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                Eigen::VectorXd& out) const override;
-  bool has_tangents() const override { return inner_->has_tangents(); }
-  void kinetic_terms_tangent(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-                             const Eigen::MatrixXd& V, Eigen::MatrixXd& M, Eigen::VectorXd& h,
-                             std::vector<Eigen::MatrixXd>& dM,
-                             Eigen::MatrixXd& dh) const override {
-    inner_->kinetic_terms_tangent(t, q, qd, V, M, h, dM, dh);
-  }
-  void forces_tangent(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-                      const Eigen::MatrixXd& V, Eigen::VectorXd& Q,
-                      Eigen::MatrixXd& dQ) const override {
-    inner_->forces_tangent(t, q, qd, V, Q, dQ);
-  }
-  void constraint_rows_tangent(const std::vector<int>& active, double t, const Eigen::VectorXd& q,
-                               const Eigen::VectorXd& qd, const Eigen::MatrixXd& V,
-                               Eigen::MatrixXd& g, Eigen::VectorXd& g0, Eigen::VectorXd& gamma,
-                               std::vector<Eigen::MatrixXd>& dg, Eigen::MatrixXd& dg0,
-                               Eigen::MatrixXd& dgamma) const override {
-    inner_->constraint_rows_tangent(active, t, q, qd, V, g, g0, gamma, dg, dg0, dgamma);
-  }
 
  private:
-  std::shared_ptr<const mech::Model> inner_;
   std::vector<int> active_;
   std::vector<int> held_rows_;  ///< positions in active_ of the held constraints
 };
