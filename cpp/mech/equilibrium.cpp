@@ -1,5 +1,6 @@
 // The static equilibrium by Newton's method with the exact Jacobian (see equilibrium.hpp).
 #include "mech/equilibrium.hpp"
+#include "common/format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,12 +10,7 @@ namespace pcsim::mech {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return format_significant(v, 6); }
 
 }  // namespace
 

@@ -1,5 +1,6 @@
 // The exact tangent of the ODE form's right-hand side (see tangent.hpp).
 #include "mech/tangent.hpp"
+#include "common/format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +11,7 @@ namespace pcsim::mech {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v) { return format_significant(v, 6); }
 
 // Cholesky factorization A = L Lᵀ in place (the lower triangle of A becomes L; rdiag holds
 // 1/L_jj), with the engine's acceptance test: every pivot positive and the pivot ratio above
