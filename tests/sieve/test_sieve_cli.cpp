@@ -4,6 +4,8 @@
 #define BOOST_TEST_MODULE sieve_cli
 #include <boost/test/unit_test.hpp>
 
+#include "../common/cli_util.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -19,46 +21,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string out;  // stdout and stderr together
-};
+using pcsim_test::exe;
+using pcsim_test::Result;
+using pcsim_test::sh;
 
-std::string exe() {
-  const char* e = std::getenv("PCSIM_EXE");
-  return e ? e : (std::string(PCSIM_BINARY_DIR) + "/pcsim");
-}
-
-// Runs a shell command line in `cwd`, capturing output and the exit status.
-Result sh(const std::string& cmd, const fs::path& cwd = fs::current_path()) {
-  Result r;
-  const std::string full = "cd '" + cwd.string() + "' && " + cmd + " 2>&1";
-  FILE* p = popen(full.c_str(), "r");
-  char buf[4096];
-  std::size_t n;
-  while (p && (n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int st = p ? pclose(p) : -1;
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int n = 0;
-    path = fs::temp_directory_path() /
-           ("pcsim_sieve_cli_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct TempDir : pcsim_test::TempDir {
+  TempDir() : pcsim_test::TempDir("sieve_cli") {}
 };
 
 const std::string kCase = std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml";
 
-bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using pcsim_test::has;
 
 }  // namespace
 
