@@ -14,6 +14,7 @@
 #include "mech/dynamics.hpp"
 #include "mech/models/registry.hpp"
 #include "mech/simulation.hpp"
+#include "bench_timing.hpp"
 
 using namespace pcsim;
 using namespace pcsim::mech;
@@ -74,23 +75,8 @@ struct SieveLike {
   }
 };
 
-// Process CPU time (std::clock): less disturbed than wall time when other jobs share the cores.
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
-
 double seconds_per_call(const std::function<void()>& f, int repeats) {
-  double best = 1e300;
-  for (int rep = 0; rep < repeats; ++rep) {
-    long calls = 0;
-    const double start = cpu_seconds();
-    double elapsed = 0.0;
-    do {
-      for (int k = 0; k < 100; ++k) f();
-      calls += 100;
-      elapsed = cpu_seconds() - start;
-    } while (elapsed < 0.1);
-    best = std::min(best, elapsed / static_cast<double>(calls));
-  }
-  return best;
+  return pcsim_bench::seconds_per_call(f, repeats, 100, 0.1);
 }
 
 struct Entry {
@@ -163,9 +149,9 @@ int main(int argc, char** argv) {
       Eigen::VectorXd q0(6);
       q0 << 0.0, 0.0, 0.0, 0.4, 0.15, 0.0;
       const auto start = std::chrono::steady_clock::now();
-      const double cpu0 = cpu_seconds();
+      const double cpu0 = pcsim_bench::process_cpu_seconds();
       const SimulationResult r = simulate(*sieve, q0, Eigen::VectorXd::Zero(6), o);
-      const double cpu = cpu_seconds() - cpu0;
+      const double cpu = pcsim_bench::process_cpu_seconds() - cpu0;
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::printf("%-8s %-6s %8.3f %8.3f %8ld %9ld %9ld %8ld %10.1e %s\n", to_string(kernel),

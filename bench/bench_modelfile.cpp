@@ -17,27 +17,14 @@
 #include "modelfile/expression_model.hpp"
 #include "modelfile/model_file.hpp"
 #include "sieve/model.hpp"
+#include "bench_timing.hpp"
 
 using namespace pcsim;
 
 namespace {
 
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
-
 double seconds_per_call(const std::function<void()>& f, int repeats) {
-  double best = 1e300;
-  for (int rep = 0; rep < repeats; ++rep) {
-    long calls = 0;
-    const double start = cpu_seconds();
-    double elapsed = 0.0;
-    do {
-      for (int k = 0; k < 200; ++k) f();
-      calls += 200;
-      elapsed = cpu_seconds() - start;
-    } while (elapsed < 0.2);
-    best = std::min(best, elapsed / static_cast<double>(calls));
-  }
-  return best;
+  return pcsim_bench::seconds_per_call(f, repeats, 200, 0.2);
 }
 
 struct Entry {
@@ -100,9 +87,9 @@ int main(int argc, char** argv) {
     o.active_constraints = {"contact", "rolling"};
     e.t_run = 1e300;
     for (int rep = 0; rep < repeats; ++rep) {
-      const double c0 = cpu_seconds();
+      const double c0 = pcsim_bench::process_cpu_seconds();
       e.run = mech::simulate(m, q0, Eigen::VectorXd::Zero(6), o);
-      e.t_run = std::min(e.t_run, cpu_seconds() - c0);
+      e.t_run = std::min(e.t_run, pcsim_bench::process_cpu_seconds() - c0);
     }
   }
   const Entry& ad = entries[0];

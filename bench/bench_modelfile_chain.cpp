@@ -19,23 +19,16 @@
 #include "mech/simulation.hpp"
 #include "modelfile/expression_model.hpp"
 #include "modelfile/model_file.hpp"
+#include "bench_timing.hpp"
 
 using namespace pcsim;
 
 namespace {
 
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+using pcsim_bench::process_cpu_seconds;
 
 double seconds_per_call(const std::function<void()>& f, double budget) {
-  long calls = 0;
-  const double start = cpu_seconds();
-  double elapsed = 0.0;
-  do {
-    f();
-    ++calls;
-    elapsed = cpu_seconds() - start;
-  } while (elapsed < budget);
-  return elapsed / static_cast<double>(calls);
+  return pcsim_bench::seconds_per_call(f, 1, 1, budget);
 }
 
 // Least-squares slope of log(y) against log(x).
@@ -82,10 +75,10 @@ int main(int argc, char** argv) {
               "f-evals", "per step [ms]", "f/step");
   for (int N : sizes) {
     const std::string text = modelfile::testing::pendulum_chain_toml(N);
-    const double c0 = cpu_seconds();
+    const double c0 = process_cpu_seconds();
     const toml::table doc = toml::parse(text);
     const auto desc = modelfile::parse_model_table(*doc["model"].as_table(), "chain.toml");
-    const double load = cpu_seconds() - c0;
+    const double load = process_cpu_seconds() - c0;
     const auto model = desc->instantiate({});
     const int n = model->n(), s = static_cast<int>(model->constraints().size());
     Eigen::VectorXd q, qd;
@@ -114,9 +107,9 @@ int main(int argc, char** argv) {
     o.rtol = o.atol = 1e-8;
     o.kernel = Kernel::cpp;
     o.active_constraints = desc->default_active_constraints();
-    const double c1 = cpu_seconds();
+    const double c1 = process_cpu_seconds();
     const mech::SimulationResult r = mech::simulate(*model, q, qd, o);
-    const double run = cpu_seconds() - c1;
+    const double run = process_cpu_seconds() - c1;
     const double per_step = run / std::max(1L, r.stats.accepted);
     std::printf("%4d %5d %4d %9.3f %9zu | %10.2f %10.1f %10.1f | %6ld %7ld %13.2f %7.1f %s\n", N,
                 n, s, load, desc->compiled().tape.instruction_count(), tm * 1e6, tr * 1e6,

@@ -21,25 +21,15 @@
 #include "sim/case.hpp"
 #include "sim/run.hpp"
 #include "steady/steady_case.hpp"
+#include "bench_timing.hpp"
 
 using namespace pcsim;
 
 namespace {
 
-double cpu_now() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
+using pcsim_bench::thread_cpu_seconds;
 template <class F> double min_time(int repeats, F&& f) {
-  double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const double t0 = cpu_now();
-    f();
-    best = std::min(best, cpu_now() - t0);
-  }
-  return best;
+  return pcsim_bench::min_thread_time(repeats, std::forward<F>(f));
 }
 
 // The summary quantities compared, by JSON path.
@@ -166,9 +156,9 @@ int main(int argc, char** argv) {
     steady::SteadyOptions o;
     o.summary = argc > 3;
     const int n = std::atoi(argv[2]);
-    const double t0 = cpu_now();
+    const double t0 = thread_cpu_seconds();
     for (int i = 0; i < n; ++i) steady::steady_case(c, o);
-    std::printf("%.3f ms per steady state\n", 1e3 * (cpu_now() - t0) / n);
+    std::printf("%.3f ms per steady state\n", 1e3 * (thread_cpu_seconds() - t0) / n);
     return 0;
   }
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
