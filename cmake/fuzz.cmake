@@ -23,7 +23,6 @@ add_test(NAME fuzz_cases COMMAND fuzz_cases --seconds ${_fuzz_seconds} --seed 19
          WORKING_DIRECTORY "${PROJECT_SOURCE_DIR}")
 set_tests_properties(fuzz_cases PROPERTIES LABELS "fuzz" TIMEOUT 600)
 
-option(PCSIM_FUZZ "Build the libFuzzer case target (needs clang)" OFF)
 if(PCSIM_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
     message(FATAL_ERROR "PCSIM_FUZZ needs clang (CXX=clang++); see scripts/fuzz.sh")

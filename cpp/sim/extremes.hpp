@@ -49,10 +49,15 @@ inline double parabola_peak(double x0, double f0, double x1, double f1, double x
 /// points is evaluated, `iterations` times (superlinear for a smooth peak). When the best
 /// sample is an end point, the parabola through the three end samples tells whether the peak
 /// lies inside the first (last) sub-interval; if it lies beyond, the neighbouring interval
-/// contains it and the end sample is this interval's maximum.
+/// contains it and the end sample is this interval's maximum. (A kink, such as |R_s| crossing
+/// zero, inside an end sub-interval is not seen by the parabola: it is found only to the
+/// sampling's resolution.) With value_rtol > 0 the
+/// refinement also stops once the parabola through the bracket predicts no gain above
+/// value_rtol |f(m)|: the value, which is what is reported, has converged (a smooth peak's
+/// position converges only like the square root of its value).
 inline void refine_max(const std::vector<double>& s, const std::vector<double>& f,
                        const std::function<double(double)>& eval, RunningMax& best,
-                       int iterations = 4) {
+                       int iterations = 4, double value_rtol = 0.0) {
   const int K = static_cast<int>(s.size()) - 1;
   int i = static_cast<int>(std::max_element(f.begin(), f.end()) - f.begin());
   best.offer(f[i], s[i]);
@@ -75,6 +80,7 @@ inline void refine_max(const std::vector<double>& s, const std::vector<double>& 
   best.offer(fa, a); best.offer(fb, b); best.offer(fm, m);
   // Now a < m < b with f(m) >= f(a), f(b): a bracketed maximum.
   for (int it = 0; it < iterations; ++it) {
+    if (value_rtol > 0 && parabola_peak(a, fa, m, fm, b, fb) - fm <= value_rtol * std::abs(fm)) break;
     double x = parabola_vertex(a, fa, m, fm, b, fb);
     if (std::isnan(x)) break;
     // Keep the trial strictly inside the bracket and away from m.
@@ -100,7 +106,7 @@ inline void refine_max(const std::vector<double>& s, const std::vector<double>& 
 /// cost no evaluations unless they may beat the maximum found so far.
 inline void refine_max_if_promising(const std::vector<double>& s, const std::vector<double>& f,
                                     const std::function<double(double)>& eval, RunningMax& best,
-                                    int iterations = 4) {
+                                    int iterations = 4, double value_rtol = 0.0) {
   const int K = static_cast<int>(s.size()) - 1;
   const int i = static_cast<int>(std::max_element(f.begin(), f.end()) - f.begin());
   bool promising = f[i] > best.value || !std::isfinite(f[i]);
@@ -112,7 +118,7 @@ inline void refine_max_if_promising(const std::vector<double>& s, const std::vec
     const double p = parabola_peak(s[c - 1], f[c - 1], s[c], f[c], s[c + 1], f[c + 1]);
     promising = std::isfinite(p) && p + (p - f[i]) > best.value;
   }
-  if (promising) refine_max(s, f, eval, best, iterations);
+  if (promising) refine_max(s, f, eval, best, iterations, value_rtol);
 }
 
 }  // namespace pcsim::sim

@@ -101,6 +101,8 @@ class Monitor {
     // its bracket; a kink (the minimum of |R_s|/R_u where R_s changes sign) converges only
     // linearly, by the bracket halvings of refine_max, and needs up to ~20 for 1e-6 of a step.
     constexpr int kIter = 24;
+    // ... and stops earlier once the value has converged to a few units of rounding.
+    constexpr double kValueRtol = 1e-14;
     s_.resize(K + 1);
     smp_.resize(K + 1);  // assigned in place: the samples' storage is reused
     for (int k = 0; k <= K; ++k) {
@@ -110,9 +112,9 @@ class Monitor {
     f_.resize(K + 1);
     for (int j = 0; j < columns(); ++j) {
       for (int k = 0; k <= K; ++k) f_[k] = value(smp_[k], j);
-      refine_max_if_promising(s_, f_, [&](double x) { return value(v.sample(x), j); }, maxima_[j], kIter);
+      refine_max_if_promising(s_, f_, [&](double x) { return value(v.sample(x), j); }, maxima_[j], kIter, kValueRtol);
       for (int k = 0; k <= K; ++k) f_[k] = -f_[k];
-      refine_max_if_promising(s_, f_, [&](double x) { return -value(v.sample(x), j); }, minima_[j], kIter);
+      refine_max_if_promising(s_, f_, [&](double x) { return -value(v.sample(x), j); }, minima_[j], kIter, kValueRtol);
     }
   }
 
