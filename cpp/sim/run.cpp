@@ -34,8 +34,12 @@ class Monitor {
   Monitor(int n, int n_out, double w0, double w1, double dt, double t_end, RowWriter* csv)
       : n_(n), n_out_(n_out), w0_(w0), w1_(w1), dt_(dt), t_end_(t_end), csv_(csv),
         maxima_(3 * n + n_out), minima_(3 * n + n_out), row_(3 * n + n_out + 3) {
-    last_row_ = static_cast<long>(std::floor(t_end / dt * (1 + 1e-12)));
-    if (last_row_ * dt < t_end * (1 - 1e-12)) ++last_row_;
+    // Rows only when they are written: run_case has then checked that there are at most
+    // kMaxOutputRows of them. Without a writer t_end / dt is unchecked (it may exceed a long).
+    if (csv_) {
+      last_row_ = static_cast<long>(std::floor(t_end / dt * (1 + 1e-12)));
+      if (last_row_ * dt < t_end * (1 - 1e-12)) ++last_row_;
+    }
   }
 
   int columns() const { return 3 * n_ + n_out_; }

@@ -130,6 +130,22 @@ BOOST_AUTO_TEST_CASE(summary_of_any_model_has_the_generic_keys) {
   BOOST_TEST(sw["window"][0].get<double>() == 1.5);
 }
 
+// output.dt far below t_end / 1e7 (found by libFuzzer: 2e-33 s): a run that writes no time
+// series (a sweep point, a summary) has no rows to count and runs; the row count, 1e30 here, was
+// converted to an integer all the same, which is undefined behaviour (UBSan in Debug). A run that
+// writes the series is refused, naming the key.
+BOOST_AUTO_TEST_CASE(tiny_output_dt_runs_without_a_series_and_is_refused_with_one) {
+  TempDir d;
+  const Case c = load_case(d.write("pend.toml", kPendulum),
+                           {{"output.dt", "2e-33"}, {"solver.t_end", "0.002"}});
+  const auto s = run_case(c);
+  BOOST_TEST(s["complete"].get<bool>());
+  BOOST_CHECK_EXCEPTION(run_case(c, RunOptions{d.path / "out", ""}), InputError, [](const InputError& e) {
+    return std::string(e.what()).find("output.dt") != std::string::npos;
+  });
+  BOOST_TEST(!fs::exists(d.path / "out"));
+}
+
 // Constraints are chosen per case: a model's keys are its constraints' names, a dependent set is
 // refused naming the constraint, and unknown keys name the model's keys.
 BOOST_AUTO_TEST_CASE(constraints_and_keys_follow_the_model) {
