@@ -164,7 +164,8 @@ ModelIssue RhsTangent::evaluate(const ActiveSet& active, double t, const Eigen::
     B1_.col(j).noalias() -= dM_[j] * qdd;
     if (s > 0) {
       B1_.col(j).noalias() += dg_[j].transpose() * lambda;
-      B2_.col(j).noalias() = -(dg_[j] * qdd);
+      B2_.col(j).setZero();  // (= −(dg q̈) would evaluate the product into a temporary)
+      B2_.col(j).noalias() -= dg_[j] * qdd;
     }
   }
   if (s > 0) B2_ -= dgamma_;
