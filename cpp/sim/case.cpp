@@ -89,6 +89,18 @@ KeySpec number_key(std::string section, std::string name, std::string meaning,
   return k;
 }
 
+KeySpec integer_key(std::string section, std::string name, std::string meaning, double min,
+                    double max) {
+  KeySpec k;
+  k.section = std::move(section);
+  k.name = std::move(name);
+  k.type = Type::integer;
+  k.meaning = std::move(meaning);
+  k.min = min;
+  k.max = max;
+  return k;
+}
+
 /// The largest integer a case may give for a count (summary periods): larger values are
 /// refused instead of wrapping around in an int.
 constexpr double kMaxCount = 1e6;
@@ -186,26 +198,14 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
                             "more than a rounding error long",
                             10.0, kMinTEnd, false));
   keys.push_back(number_key("solver", "h0", "initial step, s (0: automatic)", 0.0, 0.0, false));
-  KeySpec steps;
-  steps.section = "solver";
-  steps.name = "max_steps";
-  steps.type = Type::integer;
-  steps.meaning = "the most integration steps a run may take before it fails with 'too many "
-                  "steps' (and the time reached)";
-  steps.min = 1;
-  steps.max = kMaxSteps;
-  keys.push_back(steps);
+  keys.push_back(integer_key("solver", "max_steps",
+                             "the most integration steps a run may take before it fails with "
+                             "'too many steps' (and the time reached)",
+                             1, kMaxSteps));
   keys.push_back(number_key("output", "dt", "output interval, s", 1e-3, 0.0, true));
-  if (model_has_period(m)) {
-    KeySpec sp;
-    sp.section = "output";
-    sp.name = "summary_periods";
-    sp.type = Type::integer;
-    sp.meaning = "excitation periods in the summary window";
-    sp.min = 1;
-    sp.max = kMaxCount;
-    keys.push_back(sp);
-  }
+  if (model_has_period(m))
+    keys.push_back(integer_key("output", "summary_periods",
+                               "excitation periods in the summary window", 1, kMaxCount));
   keys.push_back(number_key("output", "summary_time",
                             "length of the summary window, s (from t_end back)", std::nullopt, 0.0,
                             true));
@@ -226,14 +226,9 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
                             "s; the largest step while a contact flies or slides (default: a "
                             "16th of the excitation period, or none)",
                             std::nullopt, 0.0, true));
-  KeySpec me;
-  me.section = "contact";
-  me.name = "max_events";
-  me.type = Type::integer;
-  me.meaning = "the most switching events a run may have before it fails";
-  me.min = 1;
-  me.max = kMaxSteps;
-  keys.push_back(me);
+  keys.push_back(integer_key("contact", "max_events",
+                             "the most switching events a run may have before it fails", 1,
+                             kMaxSteps));
   KeySpec ls = kernel;
   ls.section = "contact";
   ls.name = "lcp_solver";

@@ -180,6 +180,23 @@ std::vector<std::string> switched_contacts(const Case& c) {
   return out;
 }
 
+mech::SimulationOptions simulation_options(const Setup& set) {
+  mech::SimulationOptions so;
+  so.kernel = set.kernel;
+  so.form = set.form;
+  so.method = set.method;
+  so.linear_algebra = set.linear_algebra;
+  so.t0 = 0.0;
+  so.t_end = set.t_end;
+  so.rtol = set.rtol;
+  so.atol = set.atol;
+  so.h0 = set.h0;
+  so.max_steps = set.max_steps;
+  so.active_constraints = set.active;
+  so.stabilization = mech::Stabilization::projection;
+  return so;
+}
+
 nlohmann::json run_case(const Case& c, const RunOptions& options) {
   const Setup set = setup_of(c);
   const ModelSource& source = *c.model;
@@ -232,19 +249,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   }
   if (options.wrap_model) model = options.wrap_model(model);
 
-  mech::SimulationOptions so;
-  so.kernel = set.kernel;
-  so.form = set.form;
-  so.method = set.method;
-  so.linear_algebra = set.linear_algebra;
-  so.t0 = 0.0;
-  so.t_end = set.t_end;
-  so.rtol = set.rtol;
-  so.atol = set.atol;
-  so.h0 = set.h0;
-  so.max_steps = set.max_steps;
-  so.active_constraints = set.active;
-  so.stabilization = mech::Stabilization::projection;
+  const mech::SimulationOptions so = simulation_options(set);
 
   // The summary window.
   double w0 = 0.0;

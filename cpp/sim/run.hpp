@@ -16,6 +16,7 @@
 
 #include "common/files.hpp"
 #include "mech/equilibrium.hpp"
+#include "mech/simulation.hpp"
 #include "mech/model.hpp"
 #include "sim/case.hpp"
 
@@ -53,6 +54,10 @@ struct RunOptions {
 /// balanced by the reactions of the active constraints, the model's slow coordinates held at
 /// their initial values (mech/equilibrium.hpp). Throws pcsim::NumericalError (no equilibrium)
 /// or pcsim::InputError (a model without exact tangents).
+/// The engine's options for running the case as pcsim run does (solver keys, active
+/// constraints, projection after accepted steps), from t = 0.
+mech::SimulationOptions simulation_options(const Setup& setup);
+
 mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& setup, const mech::Model& model);
 
 /// Runs the case to solver.t_end and returns summary.json's content. Thread-safe: concurrent

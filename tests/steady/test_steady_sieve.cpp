@@ -50,17 +50,7 @@ struct WindowDrift {
 WindowDrift measure_window(const sim::Case& c) {
   const sim::Setup set = sim::setup_of(c);
   const auto model = c.model->instantiate(set.parameters, set.q0, 0.0, c.table, "");
-  mech::SimulationOptions so;  // as sim::run_case sets them
-  so.kernel = set.kernel;
-  so.form = set.form;
-  so.method = set.method;
-  so.linear_algebra = set.linear_algebra;
-  so.t_end = set.t_end;
-  so.rtol = set.rtol;
-  so.atol = set.atol;
-  so.h0 = set.h0;
-  so.max_steps = set.max_steps;
-  so.active_constraints = set.active;
+  const mech::SimulationOptions so = sim::simulation_options(set);  // as sim::run_case runs it
   WindowDrift d;
   d.w1 = set.t_end;
   d.w0 = set.t_end - set.window.periods * set.period;
