@@ -61,7 +61,8 @@ void run_optimize(const OptimizeArgs& a) {
   if (a.max_evals < 1) throw pcsim::InputError("--max-evals must be at least 1");
   o.max_evals = a.max_evals;
   const std::filesystem::path out = a.out.empty() ? "out/" + base.name + "-optimize" : a.out;
-  std::filesystem::create_directories(out);
+  // The directory is optimize's own (marked, locked for this run): never a run's or a sweep's.
+  const pcsim::OwnedDirectory owned(out, "optimize");
 
   std::printf("optimize %s %s over", o.maximize ? "max" : "min", o.objective.c_str());
   for (const auto& b : bounds)
@@ -115,7 +116,7 @@ void run_optimize(const OptimizeArgs& a) {
   // The best design is a case of its own: its own name, so running it does not overwrite the
   // original case's output directory.
   pcsim::sim::Case best_case = result.best_case;
-  best_case.name = base.name + "-optimized";
+  best_case.name = pcsim::sim::derived_case_name(base.name, "-optimized");
   pcsim::write_file_atomically(best_file, pcsim::sim::to_toml(best_case, "best design of pcsim optimize " + base.name));
   std::printf("  history: %s\n  best case: %s  (pcsim run %s)\n",
               (out / "optimize.csv").string().c_str(), best_file.string().c_str(),

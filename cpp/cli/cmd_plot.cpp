@@ -23,31 +23,13 @@
 #include "cli/commands.hpp"
 #include "cli/plot_response.hpp"
 #include "common/error.hpp"
+#include "common/gnuplot.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-bool on_path(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  if (!path) return false;
-  std::stringstream ss(path);
-  std::string dir;
-  while (std::getline(ss, dir, ':')) {
-    if (dir.empty()) continue;
-    std::error_code ec;
-    const fs::path p = fs::path(dir) / program;
-    if (fs::is_regular_file(p, ec) && access(p.c_str(), X_OK) == 0) return true;
-  }
-  return false;
-}
-
-// gnuplot string literal: single quotes, with ' doubled.
-std::string quoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += (c == '\'') ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
+std::string quoted(const std::string& s) { return pcsim::gnuplot_quoted(s); }
 
 std::string num_exact(double v) {
   char b[32];
@@ -82,6 +64,7 @@ struct Band {
 std::vector<Band> mode_bands(const fs::path& events, const nlohmann::json& s, double t_end) {
   std::vector<Band> out;
   if (!fs::exists(events) || !s.contains("switching")) return out;
+  pcsim::cli::check_plot_table(events, pcsim::cli::kMaxPlotTableBytes, false);
   std::map<std::string, std::pair<std::string, double>> current;  // constraint -> mode, since
   for (const auto& [name, c] : s["switching"]["contacts"].items())
     current[name] = {c.value("initial_mode", std::string("contact")), 0.0};
@@ -110,15 +93,28 @@ std::vector<Band> mode_bands(const fs::path& events, const nlohmann::json& s, do
   return out;
 }
 
+void plot_run(const std::string& dir_text);
+
 void plot(const std::string& dir_text) {
   const fs::path dir(dir_text);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw pcsim::InputError(dir_text + ": not a directory; expected the output directory of `pcsim "
+                                       "run`, `pcsim steady` or `pcsim response`");
   if (pcsim::cli::is_response_dir(dir)) {  // `pcsim response`: the response curves
-    if (!on_path("gnuplot"))
-      throw pcsim::InputError("pcsim plot needs gnuplot, which is not on PATH: install it (Debian: "
-                              "apt-get install gnuplot-nox, or run scripts/install-deps.sh)");
     pcsim::cli::plot_response(dir);
     return;
   }
+  try {
+    plot_run(dir_text);
+  } catch (const nlohmann::json::exception& e) {
+    throw pcsim::InputError(dir_text + ": not a complete pcsim summary (" + e.what() +
+                            "); the directory looks half-written: rerun the command that wrote it");
+  }
+}
+
+void plot_run(const std::string& dir_text) {
+  const fs::path dir(dir_text);
   // `pcsim run` writes summary.json; `pcsim steady` writes steady.json, whose "summary" is the
   // same summary of one period of the orbit.
   const fs::path csv = dir / "timeseries.csv", run_sum = dir / "summary.json",
@@ -130,28 +126,19 @@ void plot(const std::string& dir_text) {
                                        "and summary.json), `pcsim steady` (timeseries.csv and "
                                        "steady.json) or `pcsim response` (response.csv and "
                                        "response.json)");
-  nlohmann::json s;
-  try {
-    std::ifstream in(sum);
-    s = nlohmann::json::parse(in);
-    if (steady) s = s.at("summary");
-  } catch (const std::exception& e) {
-    throw pcsim::InputError(sum.string() + ": not a readable summary (" + e.what() + ")");
+  nlohmann::json s = pcsim::cli::read_plot_json(sum, pcsim::cli::kMaxPlotJsonBytes);
+  if (steady) {
+    if (!s.is_object() || !s.contains("summary"))
+      throw pcsim::InputError(sum.string() + ": not a complete steady.json (no 'summary'); rerun pcsim steady");
+    s = s["summary"];
   }
+  if (!s.is_object()) throw pcsim::InputError(sum.string() + ": not a pcsim summary (not a JSON object)");
+  // The time series checked whole (regular file, bounded size, no torn or short row) before
+  // gnuplot sees it: a half-written directory is refused, not half-drawn.
+  const pcsim::cli::TableShape shape = pcsim::cli::check_plot_table(csv, pcsim::cli::kMaxPlotTableBytes, true);
   std::map<std::string, int> col;
-  {
-    std::ifstream in(csv);
-    std::string header;
-    std::getline(in, header);
-    std::stringstream hs(header);
-    std::string name;
-    for (int i = 1; std::getline(hs, name, ','); ++i) col[name] = i;
-  }
+  for (std::size_t i = 0; i < shape.header.size(); ++i) col[shape.header[i]] = static_cast<int>(i) + 1;
   if (!col.count("t")) throw pcsim::InputError(csv.string() + ": header has no column 't'");
-  if (!on_path("gnuplot"))
-    throw pcsim::InputError(
-        "pcsim plot needs gnuplot, which is not on PATH: install it (Debian: apt-get install "
-        "gnuplot-nox, or run scripts/install-deps.sh)");
 
   const double w0 = s.at("window").at(0).get<double>(), w1 = s.at("window").at(1).get<double>();
   const std::string name = s.value("case", std::string("case"));
@@ -263,7 +250,7 @@ void plot(const std::string& dir_text) {
        "set grid\nset key top right opaque box\nset format y '%.3g'\n"
        "set offsets 0, 0, graph 0.3, graph 0.05\n";
   for (const auto& fig : figs) {
-    g << "set output " << quoted((dir / fig.file).string()) << "\n";
+    g << "set output " << quoted(fig.file) << "\n";
     // Two panels (whole run above, summary window below) when the window is part of the run.
     const int panels = w0 > 0 ? 2 : 1;
     g << "set multiplot layout " << panels << ",1 title " << quoted(name + ": " + fig.title) << "\n";
@@ -304,7 +291,7 @@ void plot(const std::string& dir_text) {
       g << "plot ";
       bool first = true;
       for (const auto& [c, legend] : fig.curves) {
-        g << (first ? "" : ", ") << quoted(csv.string()) << " every ::1 using " << col["t"] << ":";
+        g << (first ? "" : ", ") << "'timeseries.csv' every ::1 using " << col["t"] << ":";
         if (fig.offset != 0.0 || fig.scale != 1.0)
           g << "(($" << col[c] << " - " << num_exact(fig.offset) << ")*" << num_exact(fig.scale) << ")";
         else
@@ -325,22 +312,12 @@ void plot(const std::string& dir_text) {
     }
     g << "unset multiplot\nunset output\n";
   }
-  const fs::path script = dir / "plots.gp";
-  {
-    std::ofstream out(script);
-    out << g.str();
-    if (!out) throw pcsim::InputError("cannot write " + script.string());
-  }
-  FILE* pipe = popen("gnuplot", "w");
-  if (!pipe) throw pcsim::InputError("cannot start gnuplot");
-  std::fprintf(pipe, "load %s\n", quoted(script.string()).c_str());
-  const int status = pclose(pipe);
-  if (status != 0)
-    throw std::runtime_error("gnuplot failed on " + script.string() + " (exit status " +
-                             std::to_string(status) + ")");
+  std::vector<std::string> files;
+  for (const auto& fig : figs) files.push_back(fig.file);
+  pcsim::cli::run_plot_script(dir, g.str(), files);
   std::printf("pcsim plot: wrote");
   for (const auto& fig : figs) std::printf(" %s", (dir / fig.file).string().c_str());
-  std::printf("\n  (gnuplot script: %s)\n", script.string().c_str());
+  std::printf("\n  (gnuplot script: %s)\n", (dir / "plots.gp").string().c_str());
 }
 
 void setup(CLI::App& app) {

@@ -4,7 +4,12 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <system_error>
+#include <vector>
+
+#include <signal.h>
+#include <sys/stat.h>
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -56,19 +61,218 @@ void write_new_file(const fs::path& file, const std::string& content, bool durab
   if (::close(fd) != 0) throw IoError(errno_message("cannot write", file));
 }
 
-bool is_pcsim_output(const fs::path& dir) {
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+bool all_digits(const std::string& s) {
+  return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+}
+
+/// `.NAME.tmpPID-N`: write_file_atomically's temporary, `.NAME.partPID`: pcsim plot's.
+bool is_temporary(const std::string& name) {
+  if (name.size() < 2 || name[0] != '.') return false;
+  for (const char* tag : {".tmp", ".part"}) {
+    const auto at = name.rfind(tag);
+    if (at == std::string::npos || at == 0) continue;
+    std::string rest = name.substr(at + std::strlen(tag));
+    const auto dash = rest.find('-');
+    if (dash != std::string::npos) {
+      if (!all_digits(rest.substr(dash + 1))) continue;
+      rest = rest.substr(0, dash);
+    }
+    if (all_digits(rest)) return true;
+  }
+  return false;
+}
+
+/// "" or the reason why `dir` cannot be any command's output directory: the root, a path
+/// ending in . or .., the current directory or one of its parents.
+std::string unusable_reason(const fs::path& dir) {
+  const std::string leaf = dir.filename().string();
+  if (leaf.empty() || leaf == "." || leaf == "..")
+    return "it names no directory of its own (a path ending in /, . or ..)";
   std::error_code ec;
-  if (!fs::exists(dir, ec)) return true;
-  if (!fs::is_directory(dir, ec)) return false;
-  if (fs::is_empty(dir, ec)) return true;
-  return fs::exists(dir / "summary.json", ec) || fs::exists(dir / "steady.json", ec) ||
-         fs::exists(dir / "response.json", ec);
+  const fs::path real = fs::canonical(dir, ec);
+  if (ec) return "";  // absent: created new
+  const fs::path cwd = fs::canonical(fs::current_path(ec), ec);
+  if (ec) return "";
+  auto c = cwd.begin();
+  for (auto r = real.begin(); r != real.end(); ++r, ++c)
+    if (c == cwd.end() || *c != *r) return "";
+  return "it is the current directory or one of its parents";
+}
+
+/// Throws InputError unless `dir` may be used by `command` (see kOwnerMarker).
+void check_owner(const fs::path& dir, const std::string& command, bool replaces) {
+  if (const std::string why = unusable_reason(dir); !why.empty())
+    throw InputError("output directory " + dir.string() + " cannot be used: " + why +
+                     "; give pcsim a directory of its own with --out");
+  std::error_code ec;
+  const fs::file_status link = fs::symlink_status(dir, ec);
+  if (!fs::exists(link)) return;
+  if (replaces && fs::is_symlink(link))
+    throw InputError("output directory " + dir.string() + " is a symbolic link; pcsim replaces its "
+                     "output directory as a whole, so give the directory it points to, or another --out");
+  if (!fs::is_directory(dir, ec))
+    throw InputError("output directory " + dir.string() + " exists and is not a directory; choose another --out");
+  const std::string owner = directory_owner(dir);
+  if (!owner.empty() && owner != command)
+    throw InputError("output directory " + dir.string() + " belongs to `pcsim " + owner + "` (its " +
+                     kOwnerMarker + " says so); `pcsim " + command +
+                     "` does not write into another command's directory: choose another --out");
+  std::vector<std::string> foreign;
+  std::size_t n_foreign = 0;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name == kOwnerMarker) continue;
+    bool ours = pcsim_writes(command, name);
+    if (ours) {  // pcsim writes files, never directories or links
+      const fs::file_status st = it->symlink_status(ec);
+      ours = fs::is_regular_file(st);
+    }
+    if (!ours && n_foreign++ < 3) foreign.push_back(name);
+  }
+  if (ec) throw IoError("cannot read the directory " + dir.string() + ": " + ec.message());
+  if (n_foreign == 0 || (!owner.empty() && !replaces)) return;
+  std::string list;
+  for (const auto& f : foreign) list += (list.empty() ? "" : ", ") + f;
+  if (n_foreign > foreign.size()) list += " and " + std::to_string(n_foreign - foreign.size()) + " more";
+  if (owner.empty())
+    throw InputError("output directory " + dir.string() + " exists and is not a pcsim output "
+                     "directory of `pcsim " + command + "` (it has no " + kOwnerMarker +
+                     " marker and holds " + list + ", which pcsim " + command +
+                     " does not write); pcsim never writes into or replaces a directory it did not "
+                     "make: choose another --out");
+  throw InputError("output directory " + dir.string() + " holds " + list + ", which pcsim " + command +
+                   " did not write; pcsim replaces its output directory as a whole and never deletes a "
+                   "file it did not write: move the file(s) out or choose another --out");
+}
+
+std::string marker_text(const std::string& command) {
+  return command + "\n# This directory is the output of `pcsim " + command +
+         "`; pcsim writes here only as this command. Do not keep other files here.\n";
+}
+
+fs::path normalized(fs::path dir) {
+  dir = dir.lexically_normal();
+  if (dir.filename().empty() && dir.has_parent_path() && dir != dir.root_path()) dir = dir.parent_path();
+  return dir;
+}
+
+/// Removes the staging directories `.<leaf>.staging-PID-N[.old]` beside `dir` that runs killed
+/// earlier left: only when their process is gone and they carry pcsim's marker (so a PID reused
+/// by another process, or a directory pcsim did not make, is left alone).
+void remove_stale_staging(const fs::path& parent, const std::string& leaf) {
+  const std::string prefix = "." + leaf + ".staging-";
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    std::string rest = name.substr(prefix.size());
+    if (ends_with(rest, ".old")) rest.resize(rest.size() - 4);
+    const auto dash = rest.find('-');
+    if (dash == std::string::npos || !all_digits(rest.substr(0, dash)) ||
+        !all_digits(rest.substr(dash + 1)) || dash > 9)
+      continue;
+    const long pid = std::stol(rest.substr(0, dash));
+    if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or unknown
+    std::error_code e2;
+    if (!fs::is_directory(fs::symlink_status(it->path(), e2))) continue;
+    if (!fs::is_regular_file(fs::symlink_status(it->path() / kOwnerMarker, e2))) continue;
+    stale.push_back(it->path());
+  }
+  for (const auto& p : stale) fs::remove_all(p, ec);
 }
 
 }  // namespace
 
 std::string errno_message(const std::string& what, const fs::path& path) {
   return what + " " + path.string() + ": " + std::strerror(errno);
+}
+
+bool pcsim_writes(const std::string& command, const std::string& name) {
+  if (is_temporary(name)) return true;
+  auto one_of = [&](std::initializer_list<const char*> names) {
+    for (const char* n : names)
+      if (name == n) return true;
+    return false;
+  };
+  // pcsim plot's figures and script live in the directory they plot.
+  const bool plot = name == "plots.gp" || (ends_with(name, ".png") && name[0] != '.');
+  if (command == "run") return plot || one_of({"summary.json", "timeseries.csv", "events.csv"});
+  if (command == "steady") return plot || one_of({"steady.json", "timeseries.csv", "events.csv"});
+  if (command == "response") return plot || one_of({"response.csv", "response.json"});
+  const bool sweep = one_of({"sweep.csv", "sweep.key", ".sweep.lock"});
+  if (command == "sweep") return sweep;
+  if (command == "incline")
+    return sweep || one_of({"incline.csv", "incline.gp", "incline.png", "gnuplot.log"});
+  if (command == "optimize") return one_of({"optimize.csv", "best.toml"});
+  return false;
+}
+
+std::string directory_owner(const fs::path& dir) {
+  const fs::path marker = dir / kOwnerMarker;
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(marker, ec))) return "";
+  std::ifstream in(marker, std::ios::binary);
+  std::string line;
+  char c;
+  while (line.size() < 64 && in.get(c) && c != '\n') line += c;
+  while (!line.empty() && (line.back() == ' ' || line.back() == '\r')) line.pop_back();
+  return line.empty() ? std::string("an unknown command") : line;
+}
+
+DirectoryLock::DirectoryLock(const fs::path& dir_in) {
+  const fs::path dir = normalized(dir_in);
+  const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+  file_ = parent / ("." + dir.filename().string() + ".lock");
+  for (int attempt = 0;; ++attempt) {
+    fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd_ < 0) throw IoError(errno_message("cannot create the lock file", file_));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      ::close(fd_);
+      fd_ = -1;
+      if (err == EWOULDBLOCK)
+        throw InputError("output directory " + dir.string() + " is in use by another pcsim run (lock " +
+                         file_.string() + "); wait for it or choose another --out");
+      errno = err;
+      throw IoError(errno_message("cannot lock", file_));
+    }
+    // The holder before us unlinks the file before it unlocks: ours must still be the file
+    // the path names, or we locked a file nobody else will ever see.
+    struct stat held{}, named{};
+    if (::fstat(fd_, &held) == 0 && ::stat(file_.c_str(), &named) == 0 &&
+        held.st_dev == named.st_dev && held.st_ino == named.st_ino)
+      return;
+    ::close(fd_);
+    fd_ = -1;
+    if (attempt > 100) throw IoError("cannot lock " + file_.string() + ": it keeps being replaced");
+  }
+}
+
+DirectoryLock::~DirectoryLock() {
+  if (fd_ < 0) return;
+  ::unlink(file_.c_str());  // while still holding the lock (see the constructor)
+  ::close(fd_);
+}
+
+OwnedDirectory::OwnedDirectory(const fs::path& dir, const std::string& command) : dir_(normalized(dir)) {
+  if (const std::string why = unusable_reason(dir_); !why.empty())
+    throw InputError("output directory " + dir_.string() + " cannot be used: " + why +
+                     "; give pcsim a directory of its own with --out");
+  std::error_code ec;
+  const fs::path parent = dir_.has_parent_path() ? dir_.parent_path() : fs::path(".");
+  fs::create_directories(parent, ec);
+  if (ec) throw IoError("cannot create the output directory " + parent.string() + ": " + ec.message());
+  lock_ = std::make_unique<DirectoryLock>(dir_);
+  check_owner(dir_, command, false);
+  fs::create_directory(dir_, ec);
+  if (ec) throw IoError("cannot create the output directory " + dir_.string() + ": " + ec.message());
+  if (directory_owner(dir_).empty()) write_file_atomically(dir_ / kOwnerMarker, marker_text(command), true);
 }
 
 void write_file_atomically(const fs::path& file, const std::string& content, bool durable) {
@@ -85,47 +289,38 @@ void write_file_atomically(const fs::path& file, const std::string& content, boo
   if (durable) fsync_directory(file.parent_path());
 }
 
-OutputDirectory::OutputDirectory(fs::path dir) : dir_(std::move(dir)) {
-  if (dir_.filename().empty()) dir_ = dir_.parent_path();  // "out/x/" -> "out/x"
+OutputDirectory::OutputDirectory(fs::path dir, const std::string& command)
+    : dir_(normalized(std::move(dir))) {
+  if (const std::string why = unusable_reason(dir_); !why.empty())
+    throw InputError("output directory " + dir_.string() + " cannot be used: " + why +
+                     "; give pcsim a directory of its own with --out");
   std::error_code ec;
   const fs::path parent = dir_.has_parent_path() ? dir_.parent_path() : fs::path(".");
   fs::create_directories(parent, ec);
   if (ec) throw IoError("cannot create the output directory " + parent.string() + ": " + ec.message());
-  const fs::path lock = parent / ("." + dir_.filename().string() + ".lock");
-  lock_fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock_fd_ < 0) throw IoError(errno_message("cannot create the lock file", lock));
-  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-    const int err = errno;
-    ::close(lock_fd_);
-    lock_fd_ = -1;
-    if (err == EWOULDBLOCK)
-      throw InputError("output directory " + dir_.string() +
-                       " is in use by another pcsim run (lock " + lock.string() +
-                       "); wait for it or choose another --out");
-    errno = err;
-    throw IoError(errno_message("cannot lock", lock));
-  }
-  if (!is_pcsim_output(dir_)) {
-    ::close(lock_fd_);
-    lock_fd_ = -1;
-    throw InputError("output directory " + dir_.string() +
-                     " exists and is not a pcsim output directory (it is not empty and has no "
-                     "summary.json, steady.json or response.json); pcsim replaces its output directory as a whole, so choose "
-                     "another --out");
-  }
+  lock_ = std::make_unique<DirectoryLock>(dir_);
+  check_owner(dir_, command, true);
+  remove_stale_staging(parent, dir_.filename().string());
   staging_ = parent / ("." + dir_.filename().string() + ".staging-" + unique_suffix());
   fs::create_directory(staging_, ec);
   if (ec) {
-    ::close(lock_fd_);
-    lock_fd_ = -1;
-    throw IoError("cannot create " + staging_.string() + ": " + ec.message());
+    const std::string msg = "cannot create " + staging_.string() + ": " + ec.message();
+    staging_.clear();
+    throw IoError(msg);
+  }
+  // The marker first: a staging directory left by a killed run is recognised as pcsim's.
+  try {
+    write_new_file(staging_ / kOwnerMarker, marker_text(command), false);
+  } catch (...) {
+    fs::remove_all(staging_, ec);
+    throw;
   }
 }
 
 OutputDirectory::~OutputDirectory() {
   std::error_code ec;
   if (!staging_.empty()) fs::remove_all(staging_, ec);
-  if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the flock
+  lock_.reset();  // unlinks the lock file and releases the lock
 }
 
 void OutputDirectory::write(const std::string& name, const std::string& content) {

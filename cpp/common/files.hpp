@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -25,12 +26,63 @@ std::string errno_message(const std::string& what, const std::filesystem::path& 
 void write_file_atomically(const std::filesystem::path& file, const std::string& content,
                            bool durable = false);
 
+/// Output directories belong to the command that made them. Each one holds the marker file
+/// `.pcsim-output`, whose first line names its owner: run, steady, response, sweep, incline or
+/// optimize. A command refuses (InputError, exit 2) a directory that
+/// - is owned by another command (the message names the directory and its owner);
+/// - has no marker (a user's directory, or one written before markers existed) and holds a
+///   file the command does not write (pcsim_writes), e.g. a sweep's journal in a run's --out;
+/// - is the current directory or one of its parents, the root, or a path ending in . or ..;
+/// - (replacing commands: run, steady, response) holds any file the command does not write,
+///   marked or not, since the directory is replaced whole and pcsim never deletes a file it did
+///   not write; or is a symbolic link.
+inline constexpr const char* kOwnerMarker = ".pcsim-output";
+
+/// True if `command` writes a file of this name into its output directory (its own files,
+/// `pcsim plot`'s figures and script in run, steady and response directories, and pcsim's
+/// temporaries `.NAME.tmpPID-N`).
+bool pcsim_writes(const std::string& command, const std::string& file_name);
+
+/// The owner named by dir's marker, or "" when it has none.
+std::string directory_owner(const std::filesystem::path& dir);
+
+/// An exclusive, non-blocking lock on a directory: flock on the hidden sibling file
+/// `<parent>/.<name>.lock`, unlinked again when the lock is released (the lock file is re-checked
+/// after flock to be the file the path names, so two processes never hold locks on different
+/// files). A second holder is refused at once with InputError ("in use by another pcsim run").
+class DirectoryLock {
+ public:
+  DirectoryLock() = default;
+  explicit DirectoryLock(const std::filesystem::path& dir);
+  ~DirectoryLock();
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  std::filesystem::path file_;
+  int fd_ = -1;
+};
+
+/// A directory that a command writes into in place (sweep, incline, optimize): checked and
+/// locked as above, created when absent, and marked with the owner. The lock is held while the
+/// object lives.
+class OwnedDirectory {
+ public:
+  OwnedDirectory(const std::filesystem::path& dir, const std::string& command);
+  const std::filesystem::path& path() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+  std::unique_ptr<DirectoryLock> lock_;
+};
+
 /// The output directory of one run, as a transaction:
-/// - the constructor takes an exclusive lock (flock on the hidden sibling file
-///   `<parent>/.<name>.lock`), so a second pcsim writing to the same directory is refused at
-///   once with InputError; it checks that the directory is absent, empty or a pcsim output
-///   directory (it holds a summary.json, steady.json or response.json), so that pcsim never
-///   replaces a user's directory; and it creates a staging directory beside it;
+/// - the constructor takes the directory's lock (DirectoryLock), so a second pcsim writing to
+///   the same directory is refused at once with InputError; it checks that the directory is
+///   absent, empty or the `command`'s own output directory (see kOwnerMarker), so that pcsim
+///   never replaces a user's directory or another command's; it removes the staging
+///   directories that runs killed earlier left beside it (those whose process is gone and that
+///   carry pcsim's marker), and it creates a staging directory beside it, marked for `command`;
 /// - write() puts files into the staging directory;
 /// - commit() swaps the staging directory with the target in one atomic step
 ///   (renameat2 RENAME_EXCHANGE; two renames where the file system lacks it) and removes the
@@ -65,7 +117,7 @@ class OutputStream {
 
 class OutputDirectory {
  public:
-  explicit OutputDirectory(std::filesystem::path dir);
+  OutputDirectory(std::filesystem::path dir, const std::string& command);
   ~OutputDirectory();
   OutputDirectory(const OutputDirectory&) = delete;
   OutputDirectory& operator=(const OutputDirectory&) = delete;
@@ -80,7 +132,7 @@ class OutputDirectory {
 
  private:
   std::filesystem::path dir_, staging_;
-  int lock_fd_ = -1;
+  std::unique_ptr<DirectoryLock> lock_;
   bool committed_ = false;
 };
 

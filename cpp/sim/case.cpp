@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <cstdlib>
 #include <fstream>
@@ -34,6 +35,23 @@ std::string where(const fs::path& file) { return file.empty() ? std::string("<ca
   std::string msg = where(file) + ": key '" + key + "': expected " + expected;
   if (!got.empty()) msg += ", got " + got;
   throw InputError(msg);
+}
+
+/// The text with control characters shown as \xNN and cut after 80 bytes, for messages.
+std::string printable(const std::string& s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size() && i < 80; ++i) {
+    const unsigned char ch = static_cast<unsigned char>(s[i]);
+    if (ch < 0x20 || ch == 0x7f) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\x%02x", ch);
+      out += b;
+    } else {
+      out += s[i];
+    }
+  }
+  if (s.size() > 80) out += "...";
+  return out;
 }
 
 std::string describe(const toml::node& n) {
@@ -557,13 +575,60 @@ Case finish_case(const fs::path& file, toml::table t, const std::vector<Override
   c.table = std::move(t);
   c.model = r.model;
   c.client = r.client;
+  const bool named = c.table["name"].is_string();
   if (auto n = c.table["name"].value<std::string>()) c.name = *n;
   else c.name = file.empty() ? std::string("case") : file.stem().string();
+  if (const std::string problem = case_name_problem(c.name); !problem.empty())
+    fail(file, "name",
+         "a case name that can name its output directory (" + problem + ")" +
+             (named ? "" : "; without a 'name' key the case file's name is used, so set one"),
+         "\"" + printable(c.name) + "\"");
   check_model_accepts(file, c);
   return c;
 }
 
 }  // namespace
+
+namespace {
+
+/// Length of the valid UTF-8 sequence at s[i], or 0.
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+  const unsigned char c = static_cast<unsigned char>(s[i]);
+  std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xe ? 3 : (c >> 3) == 0x1e ? 4 : 0;
+  if (n == 0 || i + n > s.size()) return 0;
+  for (std::size_t k = 1; k < n; ++k)
+    if ((static_cast<unsigned char>(s[i + k]) >> 6) != 0x2) return 0;
+  if (n == 2 && c < 0xc2) return 0;  // overlong
+  return n;
+}
+
+}  // namespace
+
+std::string case_name_problem(const std::string& name) {
+  if (name.empty()) return "it is empty";
+  if (name.size() > kMaxCaseNameBytes)
+    return "at most " + std::to_string(kMaxCaseNameBytes) + " bytes, it has " + std::to_string(name.size());
+  for (std::size_t i = 0; i < name.size();) {
+    const unsigned char c = static_cast<unsigned char>(name[i]);
+    if (c == '/' || c == '\\') return "a file name, not a path: no '/' or '\\'";
+    if (c < 0x20 || c == 0x7f) return "no control characters (line breaks, tabs, NUL)";
+    const std::size_t n = utf8_length(name, i);
+    if (n == 0) return "valid UTF-8";
+    i += n;
+  }
+  if (name[0] == '.') return "it must not start with '.'";
+  return "";
+}
+
+std::string derived_case_name(const std::string& base, const std::string& suffix) {
+  std::string b = base;
+  if (b.size() + suffix.size() > kMaxCaseNameBytes) {
+    b.resize(kMaxCaseNameBytes > suffix.size() ? kMaxCaseNameBytes - suffix.size() : 0);
+    while (!b.empty() && (static_cast<unsigned char>(b.back()) & 0xc0) == 0x80) b.pop_back();
+    if (!b.empty() && static_cast<unsigned char>(b.back()) >= 0xc0) b.pop_back();
+  }
+  return b + suffix;
+}
 
 Override parse_override(const std::string& text) {
   const auto eq = text.find('=');

@@ -68,6 +68,20 @@ Override parse_override(const std::string& text);
 std::vector<Override> command_line_overrides(const std::vector<std::string>& sets,
                                              const std::vector<std::string>& added_constraints);
 
+/// The longest case name, in bytes (a case name is a file name: see check_case_name).
+inline constexpr std::size_t kMaxCaseNameBytes = 128;
+
+/// "" if `name` can be a case name, else what is wrong with it. A case name becomes the name
+/// of its output directory (out/<name>, out/<name>-sweep, ...), so it is a file name, not a
+/// path: not empty, at most kMaxCaseNameBytes bytes of valid UTF-8, not starting with '.'
+/// (hidden names are pcsim's own lock and staging files, and . and .. are not names), and
+/// without '/', '\\' or control characters.
+std::string case_name_problem(const std::string& name);
+
+/// `base` + `suffix` (e.g. "-optimized"), with base shortened at a character boundary so the
+/// result is a valid case name of at most kMaxCaseNameBytes bytes.
+std::string derived_case_name(const std::string& base, const std::string& suffix);
+
 /// Loads the case file, resolves its model (a built-in name, a model file relative to the case
 /// file, or an inline [model] table), applies the overrides in order, fills the defaults and
 /// validates every key. Throws pcsim::InputError naming the file, the key and what was expected.

@@ -214,7 +214,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   OutputStream csv;
   OutputDirectory* dir = options.directory;
   if (options.out_dir && !dir) {
-    out = std::make_unique<OutputDirectory>(*options.out_dir);
+    out = std::make_unique<OutputDirectory>(*options.out_dir, "run");
     dir = out.get();
   }
   if (dir) {

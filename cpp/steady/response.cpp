@@ -59,7 +59,7 @@ ResponseResult response_case(const sim::Case& c, const ResponseOptions& o) {
   for (const auto& t : axis.texts) listed.push_back(std::stod(t));
   const CaseOrbit base(c, o.periods, axis.key);  // checks the case and the key
   std::unique_ptr<OutputDirectory> out;
-  if (o.out_dir) out = std::make_unique<OutputDirectory>(*o.out_dir);
+  if (o.out_dir) out = std::make_unique<OutputDirectory>(*o.out_dir, "response");
   ShootingOptions so = shooting_options(base.setup(), o.method);
 
   if (res.continuation) {

@@ -338,7 +338,7 @@ nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const nl
 nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
   CaseOrbit orbit(c, options.periods);
   std::unique_ptr<OutputDirectory> out;
-  if (options.out_dir) out = std::make_unique<OutputDirectory>(*options.out_dir);
+  if (options.out_dir) out = std::make_unique<OutputDirectory>(*options.out_dir, "steady");
   ShootingOptions so = shooting_options(orbit.setup(), options.method);
   so.max_iterations = options.max_iterations;
   so.newton_tol = options.newton_tol;

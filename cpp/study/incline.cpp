@@ -6,6 +6,8 @@
 #include <map>
 
 #include "common/error.hpp"
+#include "common/files.hpp"
+#include "common/gnuplot.hpp"
 #include "study/table.hpp"
 
 namespace pcsim::study {
@@ -26,12 +28,6 @@ std::string value_text(const std::map<std::string, double>& m, const std::string
   return it == m.end() ? "" : format_number(it->second);
 }
 
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  return q + "'";
-}
-
 /// gnuplot script: margins (top) and their free - locked differences (bottom) over the first
 /// design key.
 std::string gnuplot_script(const std::string& xkey, const std::string& case_name,
@@ -42,10 +38,10 @@ std::string gnuplot_script(const std::string& xkey, const std::string& case_name
   s += "set output 'incline.png'\n";
   s += "set datafile separator ','\n";
   s += "set key autotitle columnhead\n";
-  s += "set multiplot layout 2,1 title 'Influence of incline vibration (theta free vs locked), case " +
-       case_name + "'\n";
+  s += "set multiplot layout 2,1 title " +
+       gnuplot_quoted("Influence of incline vibration (theta free vs locked), case " + case_name) + "\n";
   s += "set grid\n";
-  s += "set xlabel '" + (index_axis ? std::string("design point") : xkey) + "'\n";
+  s += "set xlabel " + gnuplot_quoted(index_axis ? std::string("design point") : xkey) + "\n";
   s += "set ylabel 'margin'\n";
   s += "set key below\n";
   s += "plot 'incline.csv' using " + x +
@@ -112,6 +108,7 @@ InclineReport run_incline_study(const sim::Case& base, const std::vector<Axis>& 
   so.progress = options.progress;
   so.cluster = options.cluster;
   so.restart = options.restart;
+  so.owner = "incline";
   report.sweep = run_sweep(base, grid, runner, so);
   report.points = grid.size() / 2;
   if (!report.sweep.ok) {
@@ -174,14 +171,22 @@ InclineReport run_incline_study(const sim::Case& base, const std::vector<Axis>& 
   if (!options.plot) return report;
   const std::string xkey = design_axes.empty() ? "" : design_axes.front().key;
   const auto script = options.out_dir / "incline.gp";
-  std::ofstream(script) << gnuplot_script(xkey, base.name, design_axes.size() != 1);
-  const std::string cmd = "cd " + shell_quote(options.out_dir.string()) +
-                          " && gnuplot incline.gp 2>gnuplot.log";
-  if (std::system(cmd.c_str()) == 0) {
+  const std::string text = gnuplot_script(xkey, base.name, design_axes.size() != 1);
+  int status = -1;
+  std::string why;
+  try {
+    write_file_atomically(script, text);
+    // No shell: gnuplot runs in the study's directory and reads the script on its input.
+    status = run_gnuplot(options.out_dir, text, "gnuplot.log");
+  } catch (const std::exception& e) {
+    why = e.what();
+  }
+  if (status == 0) {
     report.plot = options.out_dir / "incline.png";
   } else {
-    report.plot_error = "gnuplot failed (see " + (options.out_dir / "gnuplot.log").string() +
-                        "); the table is in " + report.table.string();
+    report.plot_error = (why.empty() ? "gnuplot failed (see " + (options.out_dir / "gnuplot.log").string() + ")"
+                                     : "no figure: " + why) +
+                        "; the table is in " + report.table.string();
   }
   return report;
 }

@@ -10,6 +10,7 @@
 #include <deque>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -220,29 +221,6 @@ std::string key_differences(const std::string& old_key, const std::string& new_k
   return out;
 }
 
-/// Holds an exclusive flock on DIR/.sweep.lock for the sweep's lifetime.
-class SweepLock {
- public:
-  std::string acquire(const std::filesystem::path& dir) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) return "cannot create directory " + dir.string() + ": " + ec.message();
-    const auto file = dir / ".sweep.lock";
-    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0) return errno_text("cannot create the lock file", file);
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0)
-      return "another sweep is writing to " + dir.string() + " (lock " + file.string() +
-             "); wait for it or choose another --out";
-    return "";
-  }
-  ~SweepLock() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-
- private:
-  int fd_ = -1;
-};
-
 /// Checks (or records) the journal key of out_dir. "" or the reason to refuse.
 std::string check_key(const std::filesystem::path& dir, const std::string& key, bool restart) {
   const auto csv = dir / "sweep.csv", key_file = dir / "sweep.key";
@@ -344,14 +322,18 @@ SweepReport run_sweep(const sim::Case& base, const Grid& grid, const Runner& run
 
   // Rank 0 locks the directory, checks the journal key, reads the earlier file and decides
   // what is pending; the others are told.
-  SweepLock lock;
+  std::unique_ptr<OwnedDirectory> owned;  // locked and marked for options.owner
   Journal journal;
   std::vector<std::optional<std::string>> lines;
   std::vector<std::string> foreign;
   std::vector<std::size_t> pending;
   if (rank == 0) {
     lines.resize(grid.size());
-    report.error = lock.acquire(options.out_dir);
+    try {
+      owned = std::make_unique<OwnedDirectory>(options.out_dir, options.owner);
+    } catch (const std::exception& e) {
+      report.error = e.what();
+    }
     if (report.error.empty()) report.error = check_key(options.out_dir, sweep_key(base, grid), options.restart);
     if (report.error.empty())
       report.error = journal.open(report.csv, header_line, grid, lines, foreign, report);

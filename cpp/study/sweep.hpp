@@ -31,6 +31,9 @@ struct SweepOptions {
   /// An existing sweep.csv computed for another case (its journal key differs): false refuses
   /// the sweep naming what changed; true discards the old rows and computes every point.
   bool restart = false;
+  /// The command that owns out_dir (its marker, common/files.hpp): "sweep", or "incline" for
+  /// the incline study's sweep. A directory of another command is refused.
+  std::string owner = "sweep";
 };
 
 struct SweepReport {

@@ -179,7 +179,7 @@ BOOST_AUTO_TEST_CASE(output_directory_is_replaced_whole_and_locked) {
   BOOST_TEST(!fs::exists(out / "stale.png"));
   BOOST_TEST(fs::exists(out / "summary.json"));
   {
-    OutputDirectory holder(out);  // another pcsim writing there
+    OutputDirectory holder(out, "run");  // another pcsim writing there
     const std::string msg = error_of([&] { run_case(c, RunOptions{out, ""}); });
     BOOST_TEST(has(msg, "in use by another pcsim run"), msg);
   }
