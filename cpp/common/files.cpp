@@ -92,6 +92,10 @@ std::string unusable_reason(const fs::path& dir) {
   const std::string leaf = dir.filename().string();
   if (leaf.empty() || leaf == "." || leaf == "..")
     return "it names no directory of its own (a path ending in /, . or ..)";
+  // Beside it live .<name>.lock and .<name>.staging-<pid>-<n>.old: all within NAME_MAX (255).
+  if (leaf.size() > kMaxOutputLeafBytes)
+    return "its last component has " + std::to_string(leaf.size()) + " bytes, more than " +
+           std::to_string(kMaxOutputLeafBytes) + " (pcsim keeps hidden files named after it beside it)";
   std::error_code ec;
   const fs::path real = fs::canonical(dir, ec);
   if (ec) return "";  // absent: created new

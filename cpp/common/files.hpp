@@ -38,6 +38,10 @@ void write_file_atomically(const std::filesystem::path& file, const std::string&
 ///   not write; or is a symbolic link.
 inline constexpr const char* kOwnerMarker = ".pcsim-output";
 
+/// The longest last component of an output directory's path, in bytes: its lock and staging
+/// siblings (.<name>.staging-<pid>-<n>.old) must fit the file system's 255.
+inline constexpr std::size_t kMaxOutputLeafBytes = 200;
+
 /// True if `command` writes a file of this name into its output directory (its own files,
 /// `pcsim plot`'s figures and script in run, steady and response directories, and pcsim's
 /// temporaries `.NAME.tmpPID-N`).

@@ -30,8 +30,12 @@ inline std::filesystem::path scratch(const std::string& name) {
 /// The sieve case with every documented default, and a short run (solver.t_end = t_end).
 inline const bool kSieveRegistered = (pcsim::sieve::register_sieve(), true);
 
+/// The case file lives beside `dir` (in `<dir>.case/`), not in it: tests use `dir` as a sweep's
+/// output directory, which pcsim refuses when it holds a file pcsim did not write.
 inline pcsim::sim::Case minimal_case(const std::filesystem::path& dir, double t_end = 0.2) {
-  const auto file = dir / "mini.toml";
+  const auto case_dir = dir.parent_path() / (dir.filename().string() + ".case");
+  std::filesystem::create_directories(case_dir);
+  const auto file = case_dir / "mini.toml";
   std::ofstream(file) << "model = \"sieve\"\n";
   return pcsim::sim::load_case(file, {{"solver.t_end", std::to_string(t_end)}});
 }
