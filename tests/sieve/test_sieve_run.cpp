@@ -226,7 +226,7 @@ BOOST_AUTO_TEST_CASE(cpp_form_runs_match_the_default_model_file_run) {
 // Output files appear completely or not at all: a run that fails numerically (ω so large
 // that ω² overflows: the forces are not finite) throws NumericalError and leaves the output
 // directory without summary.json, timeseries.csv or temporary files; a good run leaves exactly
-// the two files.
+// the two files (and the marker that says the directory is pcsim run's).
 BOOST_AUTO_TEST_CASE(failed_run_writes_nothing_and_good_run_leaves_no_temporaries) {
   TempDir dir;
   RunOptions o;
@@ -239,7 +239,8 @@ BOOST_AUTO_TEST_CASE(failed_run_writes_nothing_and_good_run_leaves_no_temporarie
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(dir.path)) names.push_back(e.path().filename());
   std::sort(names.begin(), names.end());
-  BOOST_TEST(names == (std::vector<std::string>{"summary.json", "timeseries.csv"}),
+  // The two files and the directory's owner marker (.pcsim-output, issue 19).
+  BOOST_TEST(names == (std::vector<std::string>{".pcsim-output", "summary.json", "timeseries.csv"}),
              boost::test_tools::per_element());
   std::ifstream in(dir.path / "summary.json");
   const json s = json::parse(in);  // complete, parseable
