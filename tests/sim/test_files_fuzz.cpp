@@ -11,6 +11,10 @@
 
 #include "files_util.hpp"
 
+#include <algorithm>
+
+#include "common/gnuplot.hpp"
+
 #include <cstdlib>
 #include <random>
 #include <string>
@@ -93,4 +97,29 @@ BOOST_AUTO_TEST_CASE(hostile_names_over_run_plot_and_sweep_keep_the_invariants) 
                                        << " refused, " << plotted << " plotted");
   BOOST_TEST(ran > 0);
   BOOST_TEST(refused > 0);
+}
+
+// The quoting itself, against the real gnuplot: every generated string (any bytes but NUL),
+// quoted by gnuplot_quoted, is one string literal to gnuplot: a script printing all of them
+// runs without an error (nothing ended a string early) and creates no PWNED; and a quoted string
+// holds no quote but its two delimiters and no control character.
+BOOST_AUTO_TEST_CASE(gnuplot_quoted_strings_cannot_end_early) {
+  std::mt19937 rng(7);
+  std::string script;
+  for (int i = 0; i < 300; ++i) {
+    std::string s = hostile_name(rng);
+    const std::string q = pcsim::gnuplot_quoted(s);
+    BOOST_TEST(std::count(q.begin(), q.end(), '\'') == 2, q);
+    BOOST_TEST(q.front() == '\'');
+    BOOST_TEST(q.back() == '\'');
+    BOOST_TEST(std::none_of(q.begin(), q.end(), [](char c) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      return u < 0x20 || u == 0x7f || c == '`';
+    }), q);
+    script += "print " + q + "\n";
+  }
+  if (pcsim_test::sh("command -v gnuplot >/dev/null").status != 0) return;
+  pcsim_test::TempDir d("gp_quote");
+  BOOST_TEST(pcsim::run_gnuplot(d.path, script, "gnuplot.log") == 0, pcsim_test::read(d.path / "gnuplot.log"));
+  BOOST_TEST(!files_test::pwned(d.path));
 }
