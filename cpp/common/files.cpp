@@ -130,11 +130,13 @@ void check_owner(const fs::path& dir, const std::string& command, bool replaces)
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (name == kOwnerMarker) continue;
-    bool ours = pcsim_writes(command, name);
-    if (ours) {  // pcsim writes files, never directories or links
-      const fs::file_status st = it->symlink_status(ec);
-      ours = fs::is_regular_file(st);
-    }
+    const bool ours = pcsim_writes(command, name);
+    // pcsim writes files, never directories or links: a link named like one of its files
+    // (optimize.csv -> a user's file) would make pcsim write through it.
+    if (ours && !fs::is_regular_file(it->symlink_status(ec)))
+      throw InputError("output directory " + dir.string() + " holds " + name +
+                       ", which is not a regular file, where pcsim " + command +
+                       " writes a file of that name; remove it or choose another --out");
     if (!ours && n_foreign++ < 3) foreign.push_back(name);
   }
   if (ec) throw IoError("cannot read the directory " + dir.string() + ": " + ec.message());

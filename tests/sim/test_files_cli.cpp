@@ -214,6 +214,15 @@ BOOST_AUTO_TEST_CASE(commands_own_their_directories_and_refuse_each_others) {
       BOOST_TEST(r.status == 2, cmd[0] << " --out " << out << ": " << r.out);
     }
   }
+  // A link where optimize writes its history would make it write through the link: refused.
+  BOOST_TEST_REQUIRE(run_pcsim({"optimize", "c.toml", "--vary", "parameters.e=0.009:0.011", "--max-evals", "1",
+                                "--no-default-constraints", "--out", "opt"}, s.work).status == 0);
+  fs::remove(s.work / "opt" / "optimize.csv");
+  fs::create_symlink(s.work / "notes.txt", s.work / "opt" / "optimize.csv");
+  r = run_pcsim({"optimize", "c.toml", "--vary", "parameters.e=0.009:0.011", "--max-evals", "1",
+                 "--no-default-constraints", "--out", "opt"}, s.work);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(has(r.out, "not a regular file"), r.out);
   // A file of the user's in a run directory is never deleted by the next run: refused instead.
   std::ofstream(s.work / "r" / "my-notes.txt") << "mine";
   r = run_pcsim({"run", "c.toml", "--out", "r"}, s.work);
