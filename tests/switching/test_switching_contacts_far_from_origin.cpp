@@ -199,3 +199,31 @@ BOOST_AUTO_TEST_CASE(penetration_is_reported_where_it_happens_and_not_otherwise)
   BOOST_TEST(good.contacts.at(0).run.penetration_max < 1e-12);
   BOOST_TEST(good.residual_pos_max < 1e-12);
 }
+
+// Two corners, every impact an LCP: the block rocking 1e5 m along the floor (x enters neither
+// corner's gap nor its normal velocity) rocks as at x = 0: the same events, the accumulation at
+// the same time (the integrator's steps differ with x's tolerance: 1e-8 s).
+BOOST_AUTO_TEST_CASE(rocking_block_far_along_the_floor_rocks_as_at_the_origin) {
+  const double b = 0.1, h = 0.3, theta = 0.1;
+  auto m = contact_model("rocking_block", {{"e_n", 0.0}, {"mu", 1.0}});
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  o.method = OdeMethod::automatic;
+  std::vector<SwitchingResult> rs;
+  for (double X : {0.0, 1e5, -1e5}) {
+    Eigen::VectorXd q0(3);
+    q0 << X, b * std::sin(theta) + h * std::cos(theta), theta;
+    rs.push_back(run(*m, q0, Eigen::VectorXd::Zero(3), 3.0, o));
+    BOOST_REQUIRE_MESSAGE(rs.back().status == SimulationStatus::success, rs.back().message);
+  }
+  for (std::size_t i = 1; i < rs.size(); ++i) {
+    BOOST_REQUIRE_EQUAL(rs[i].events.size(), rs[0].events.size());
+    for (std::size_t k = 0; k < rs[0].events.size(); ++k) {
+      BOOST_TEST(rs[i].events[k].constraint == rs[0].events[k].constraint);
+      BOOST_TEST(rs[i].events[k].kind == rs[0].events[k].kind);
+      BOOST_TEST(std::abs(rs[i].events[k].t - rs[0].events[k].t) < 1e-8);
+    }
+    for (std::size_t c = 0; c < 2; ++c)
+      BOOST_TEST(rs[i].contacts[c].run.penetration_max < 1e-11);
+  }
+}
