@@ -593,57 +593,182 @@ class Engine {
 
   // ---- transitions ----------------------------------------------------------------------------
 
-  double pos_tol(const Eigen::VectorXd& q) const {
-    return 10.0 * (opt_.atol + opt_.rtol * q.cwiseAbs().maxCoeff());
+  // ---- tolerances of one contact (issue 19) ---------------------------------------------------
+  //
+  // Every tolerance of a contact is relative to the quantity it compares, never to the size of
+  // the coordinates: a ball bouncing 50 m along the floor (x = 50, not in the gap) must bounce
+  // exactly as at x = 0. The scales come from the contact's own rows:
+  //  - the gap's rounding: the representation error of the coordinates (and of t) propagated
+  //    through the gap function, kRound eps (sum_j |dg/dq_j| |q_j| + |dg/dt| |t|); a floor
+  //    `y - 50 >= 0` with y near 50 has a rounding of 50 eps, a floor y >= 0 at x = 50 none from x;
+  //  - the gap's accuracy: the integrator's absolute tolerance propagated through the gradient,
+  //    10 atol sum_j |dg/dq_j|, plus the rounding;
+  //  - a contact velocity's (gap rate or sliding velocity, g q_d + g0) accuracy: 10 (atol |g|_1
+  //    + rtol (|g| . |q_d| + |g0|)) plus its rounding kRound eps (|g| . |q_d| + |g0|): relative to the
+  //    terms that make up that velocity, so a fast slide along an incline (x_d, not in the gap
+  //    rate) does not widen the normal velocity's tolerance.
+  static constexpr double kEps = 2.220446049250313e-16;
+  static constexpr double kRound = 100.0;
+  /// A rebound whose apex is below kResolve gap roundings is an accumulation (impact()).
+  static constexpr double kResolve = 16.0;
+  double row_scale(const Row& r, double t, const Eigen::VectorXd& q) const {
+    return r.g.cwiseAbs().dot(q.cwiseAbs()) + std::abs(r.g0 * t);
   }
-  double vel_tol(const Eigen::VectorXd& qd) const {
-    return 10.0 * (opt_.atol + opt_.rtol * qd.cwiseAbs().maxCoeff());
+  double gap_round(int c, double t, const Eigen::VectorXd& q) const {
+    const Row r = normal_row(c, t, q, Eigen::VectorXd::Zero(n_));
+    return kRound * kEps * row_scale(r, t, q);
+  }
+  double gap_tol(int c, double t, const Eigen::VectorXd& q) const {
+    const Row r = normal_row(c, t, q, Eigen::VectorXd::Zero(n_));
+    return 10.0 * opt_.atol * r.g.cwiseAbs().sum() + kRound * kEps * row_scale(r, t, q);
+  }
+  double velocity_tol(const Row& r, const Eigen::VectorXd& qd) const {
+    const double terms = r.g.cwiseAbs().dot(qd.cwiseAbs()) + std::abs(r.g0);
+    return 10.0 * (opt_.atol * r.g.cwiseAbs().sum() + opt_.rtol * terms) + kRound * kEps * terms;
+  }
+  double vn_tol(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+    return velocity_tol(normal_row(c, t, q, qd), qd);
+  }
+  double vt_tol(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+    if (contacts_[c].friction < 0) return 0.0;
+    return velocity_tol(row(contacts_[c].friction, t, q, qd), qd);
+  }
+  /// The rounding of a contact velocity (the sliding function's offset).
+  double velocity_round(const Row& r, const Eigen::VectorXd& qd) const {
+    return kRound * kEps * (r.g.cwiseAbs().dot(qd.cwiseAbs()) + std::abs(r.g0));
   }
 
   /// Resolves an impact at (t, q, qd) if a touching contact approaches: Newton's law with the
   /// impulses of the compatibility equations at impulse level (Coulomb-bounded tangential
-  /// impulses), the accumulation rule, and the events. qd is updated. Returns false on failure.
+  /// impulses), the accumulation rule, the energy rule, and the events. qd is updated. Returns
+  /// false on failure (message_).
+  ///
+  /// The energy rule (issue 19): an impact never creates kinetic energy. Newton's law with
+  /// Coulomb friction can (a corner that must stop sliding while it rebounds: the tangential
+  /// impulse works against the coupling of the normal one; Kane's paradox), and so can Newton's
+  /// law at several contacts. The plastic impact (e = 0) with Coulomb friction never does: by
+  /// complementarity Λ_n v_n⁺ = 0 and Λ_t v_t⁺ = −ζ (β⁺ + β⁻) <= 0, so
+  /// ΔT = Λ·v⁺ − ½ Λ·WΛ <= 0. Where Newton's impulse Λ_N would create energy, the impulse taken
+  /// is Λ_0 + s (Λ_N − Λ_0) with Λ_0 the plastic one and s in [0, 1) the largest with ΔT <= 0:
+  /// it lies in Coulomb's cone (both do, and the cone is convex), no contact approaches after it
+  /// (both leave v_n⁺ >= 0), and it loses no more energy than needed (for e = 1 it conserves
+  /// the energy exactly). Counted in energy_limited_impacts.
   bool impact(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd, const Config& before,
               std::vector<ContactEvent>& events, std::vector<char>& hit) {
-    const double ptol = pos_tol(q), vtol = vel_tol(qd);
     Problem p;
     p.impulse = true;
     bool approaching = false;
+    std::vector<double> vtol_of(nc(), 0.0);
     for (int c = 0; c < nc(); ++c) {
-      if (!(gap(c, t, q) <= ptol)) continue;
+      if (!(gap(c, t, q) <= gap_tol(c, t, q))) continue;
       Cand k;
       k.c = c;
       k.frictional = contacts_[c].friction >= 0;
-      k.e = contacts_[c].e;
       k.mu = contacts_[c].mu_k;
+      vtol_of[c] = vn_tol(c, t, q, qd);
+      const bool approaches = vn(c, t, q, qd) < -vtol_of[c];
+      // Newton's law v_n⁺ >= −e v_n⁻ restores an approach; a touching contact that does not
+      // approach (at rest or separating) only may not be driven into the surface by the others'
+      // impulses: v_n⁺ >= 0 (with e, a separating one could have been left approaching at −e v_n⁻).
+      k.e = approaches ? contacts_[c].e : 0.0;
       p.cands.push_back(k);
-      approaching = approaching || vn(c, t, q, qd) < -vtol;
+      approaching = approaching || approaches;
     }
     if (!approaching) return true;
     Eigen::MatrixXd J, P;
     Eigen::VectorXd j0, jg, aB;
     rows_of(p, t, q, qd, J, j0, jg);
     if (inertia(t, q, qd, P, aB) != ModelIssue::none) return false;
+    const Eigen::MatrixXd M = aux_dyn_.M;
     p.W = J * P * J.transpose();
     p.f = J * qd + j0;  // velocities before
     const Eigen::VectorXd v_before = p.f;
+    // The change of kinetic energy by the contact impulses Λ, from the velocity change they
+    // make (Δq̇ = P Jᵀ Λ): ΔT = q̇⁻ᵀ M Δq̇ + ½ Δq̇ᵀ M Δq̇ + Λ·j0. For scleronomic contacts this is
+    // T⁺ − T⁻ (the bilateral constraints' impulses do no work); for a moving surface (j0 ≠ 0)
+    // it is the change of the kinetic energy of the motion relative to it, Λ·(v⁻ + v⁺)/2.
+    // Computed from Δq̇, not from Λ·WΛ: impulses of redundant contacts can be large and cancel.
+    auto energy_change = [&](const Eigen::VectorXd& L, double* round) {
+      const Eigen::VectorXd d = P * (J.transpose() * L);
+      const Eigen::VectorXd Md = M * d;
+      if (round)
+        *round = 1e-12 * (qd.cwiseAbs().dot((M.cwiseAbs() * d.cwiseAbs())) +
+                          0.5 * d.cwiseAbs().dot(M.cwiseAbs() * d.cwiseAbs()) +
+                          L.cwiseAbs().dot(j0.cwiseAbs())) + 1e-300;
+      return qd.dot(Md) + 0.5 * d.dot(Md) + L.dot(j0);
+    };
+    // No touching contact approaches after the impulse (its velocities from Δq̇ as well).
+    auto velocities_after = [&](const Eigen::VectorXd& L) -> Eigen::VectorXd {
+      return J * (qd + P * (J.transpose() * L)) + j0;
+    };
+    auto leaves_none_approaching = [&](const Eigen::VectorXd& L) {
+      const Eigen::VectorXd v = velocities_after(L);
+      for (const Cand& k : p.cands)
+        if (!(v[k.kn] >= -vtol_of[k.c])) return false;
+      return true;
+    };
+    const Problem newton = p;  // before assemble(): the plastic problem below starts from it
     Eigen::VectorXd z;
     if (!solve_problem(p, t, z)) return false;
     Eigen::VectorXd Lam = p.E * z;
-    Eigen::VectorXd v_after = v_before + p.W * Lam;
+    // The energy rule.
+    bool limited = false;
+    double round = 0.0;
+    double dT = energy_change(Lam, &round);
+    const bool newton_solves = leaves_none_approaching(Lam);
+    if (dT > round || !newton_solves) {
+      Problem plastic = newton;
+      for (Cand& k : plastic.cands) k.e = 0.0;
+      Eigen::VectorXd z0;
+      if (!solve_problem(plastic, t, z0)) return false;
+      const Eigen::VectorXd Lam0 = plastic.E * z0;
+      double round0 = 0.0;
+      const double dT0 = energy_change(Lam0, &round0);
+      if (dT0 > round0 || !leaves_none_approaching(Lam0)) {
+        message_ = "the impact at t = " + num(t) + " (contacts " + names(p) + ") has no consistent " +
+                   "solution: the impulses found " +
+                   (dT0 > round0 ? "would create kinetic energy even without restitution (" + num(dT0) + " J)"
+                                 : std::string("leave a contact approaching")) +
+                   " (several contacts that pose dependent conditions, with friction?)";
+        return false;
+      }
+      if (newton_solves) {
+        double lo = 0.0, hi = 1.0;
+        for (int it = 0; it < 60; ++it) {
+          const double mid = 0.5 * (lo + hi);
+          (energy_change(Lam0 + mid * (Lam - Lam0), nullptr) <= 0.0 ? lo : hi) = mid;
+        }
+        max_energy_prevented_ = std::max(max_energy_prevented_, dT);
+        Lam = Lam0 + lo * (Lam - Lam0);
+      } else {
+        Lam = Lam0;  // Newton's impulse is no solution (an LCP answer out of tolerance): plastic
+      }
+      dT = energy_change(Lam, nullptr);
+      limited = true;
+      ++energy_limited_;
+    }
+    Eigen::VectorXd v_after = velocities_after(Lam);
     // Accumulation: a contact that leaves the surface after the impact (a rebound, or a corner
     // lifted by an impact elsewhere) and would land again within zeno_time (2 v_n / |a_n|,
-    // a_n with every contact open) starts a sequence of impacts that accumulates. Its limit
-    // is taken at once: every touching contact closed, by the impulse of least kinetic energy
-    // that brings their normal velocities to zero (Λ_n = −W_nn⁺ v_n⁻, the P-weighted
-    // projection; friction is decided at acceleration level right after).
+    // a_n with every contact open) starts a sequence of impacts that accumulates; so does a
+    // rebound whose apex v_n² / (2 |a_n|) stays below kResolve times the gap's rounding (the
+    // flight cannot be resolved: at 50 m from the origin the gap y − 50 is known to 50 eps only,
+    // and the landing would be decided by rounding, not by the motion). Its limit is taken at
+    // once: every touching contact closed, by the impulse of least kinetic energy that brings
+    // their normal velocities to zero (Λ_n = −W_nn⁺ v_n⁻, the P-weighted projection; friction is
+    // decided at acceleration level right after).
     bool accumulate = false;
     for (const Cand& k : p.cands) {
-      if (!(v_after[k.kn] > vtol)) continue;
+      if (!(v_after[k.kn] > vtol_of[k.c])) continue;
       const double an = J.row(k.kn).dot(aB) + jg[k.kn];
-      if (an < 0.0 && 2.0 * v_after[k.kn] / -an < sw_.zeno_time) accumulate = true;
+      if (!(an < 0.0)) continue;
+      const double v = v_after[k.kn];
+      if (2.0 * v / -an < sw_.zeno_time || v * v / (2.0 * -an) < kResolve * gap_round(k.c, t, q))
+        accumulate = true;
     }
     if (accumulate) {
+      if (limited) --energy_limited_;  // the closure replaces the limited impulse
+      limited = false;
       // First with the sliding velocities of the frictional contacts brought to zero as well
       // (the accumulating impacts end at rest), if the tangential impulses that takes stay in
       // Coulomb's cone (|Λ_t| <= μ_k |Λ_n|); otherwise normals only (a sliding body keeps
@@ -670,15 +795,23 @@ class Engine {
             in_cone = in_cone && std::abs(Lam[k.kt]) <= contacts_[k.c].mu_k * std::abs(Lam[k.kn]) * (1 + 1e-9);
         if (in_cone) break;
       }
-      v_after = v_before + p.W * Lam;
+      v_after = velocities_after(Lam);
+      dT = energy_change(Lam, &round);
+      // The least-energy closure: ΔT = −½ v⁻·W⁺v⁻ <= 0 by construction; checked all the same.
+      if (dT > round) {
+        message_ = "the accumulation closure at t = " + num(t) + " (contacts " + names(p) +
+                   ") would create kinetic energy (" + num(dT) + " J)";
+        return false;
+      }
     }
+    last_energy_change_ = dT;
     const Eigen::VectorXd dqd = P * (J.transpose() * Lam);
     for (const Cand& k : p.cands) {
       const double ln = Lam[k.kn], lt = k.kt >= 0 ? Lam[k.kt] : 0.0;
       const double vb = v_before[k.kn], va = v_after[k.kn];
       const double vtb = k.kt >= 0 ? v_before[k.kt] : 0.0, vta = k.kt >= 0 ? v_after[k.kt] : 0.0;
       const double lost = -0.5 * (ln * (va + vb) + lt * (vta + vtb));
-      if (!(vb < -vtol)) {
+      if (!(vb < -vtol_of[k.c])) {
         // A closed contact that took part: its share of the loss is booked with the impact,
         // its impulse reported with its own switch (a lift-off), if any.
         if (ln != 0.0 || lt != 0.0) pending_loss_[k.c] += lost;
@@ -700,6 +833,7 @@ class Engine {
       ev.vt_before = vtb;
       ev.vt_after = vta;
       ev.energy_lost = lost;
+      ev.energy_limited = limited;
       hit[k.c] = 1;
       events.push_back(ev);
     }
@@ -712,17 +846,16 @@ class Engine {
   /// tangentially, the Coulomb cone with μ_s; sliding contacts keep their direction with μ_k.
   bool decide(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Config& before,
               Config& cfg, bool force_lcp) {
-    const double ptol = pos_tol(q), vtol = vel_tol(qd);
     cfg.modes.assign(nc(), ContactMode::flight);
     cfg.sigma.assign(nc(), 0);
     Problem p;
     for (int c = 0; c < nc(); ++c) {
-      if (!(gap(c, t, q) <= ptol) || !(vn(c, t, q, qd) <= vtol)) continue;
+      if (!(gap(c, t, q) <= gap_tol(c, t, q)) || !(vn(c, t, q, qd) <= vn_tol(c, t, q, qd))) continue;
       Cand k;
       k.c = c;
       if (contacts_[c].friction >= 0) {
         const double v = vt(c, t, q, qd);
-        if (std::abs(v) <= vtol) {
+        if (std::abs(v) <= vt_tol(c, t, q, qd)) {
           k.frictional = true;
           k.mu = contacts_[c].mu_s;
         } else {
@@ -882,6 +1015,37 @@ class Engine {
       message_ = "projection onto the new contact set at t = " + num(t) + ": " + msg;
       return false;
     }
+    // A contact that flies on after the event starts on the surface, not below it. The state
+    // at an event lies on the root's far side (the gap a rounding below zero), and the landing
+    // threshold of the next flight is taken from where it starts: without this, every bounce
+    // started a rounding deeper than the last (the ball 50 m along the floor went 4.8e-6 m into
+    // it in 429,062 bounces). The open contacts touching from below (within gap_tol) are
+    // projected onto their surface together with the imposed rows, positions only, and the
+    // velocities then onto the imposed rows again. Deeper penetrations are left as they are and
+    // reported (penetration_max).
+    {
+      std::vector<int> rows;
+      bool lift = false;
+      for (int i : L.imposed)
+        if (model_.constraints()[i].kind == ConstraintKind::holonomic && position_level(i)) rows.push_back(i);
+      for (int c = 0; c < nc(); ++c) {
+        if (is_closed(after.modes[c])) continue;
+        const double gc = gap(c, t, q);
+        if (gc < 0.0 && gc >= -gap_tol(c, t, q)) {
+          rows.push_back(contacts_[c].normal);
+          lift = true;
+        }
+      }
+      if (lift) {
+        Eigen::VectorXd qd_tmp = qd;
+        if (project_state(model_, rows, t, q, qd_tmp, opt_.kernel, opt_.projection_tol, dq, dv, msg, pw_) !=
+                ModelIssue::none ||
+            project(L, t, q, qd, dq, dv, msg) != ModelIssue::none) {
+          message_ = "lifting the rebounding contacts onto their surface at t = " + num(t) + ": " + msg;
+          return false;
+        }
+      }
+    }
     for (ContactEvent& ev : events)
       if (ev.t == t && hit[ev.contact]) ev.mode_after = after.modes[ev.contact];
     if (initial) return true;
@@ -1021,6 +1185,9 @@ class Engine {
   std::string message_;
   long lcp_solves_ = 0;
   bool lcp_failed_ = false;
+  long energy_limited_ = 0;           ///< impacts whose impulse the energy rule limited
+  double max_energy_prevented_ = 0.0; ///< the largest ΔT > 0 Newton's impulse would have made
+  double last_energy_change_ = 0.0;   ///< ΔT of the last impact (J, <= rounding)
   std::vector<double> pending_loss_;
   std::vector<char> anchored_;  ///< per contact: its friction row still holds its position constant
   std::vector<char> impulsed_;  ///< per contact: took part in this instant's impact without approaching
@@ -1081,24 +1248,28 @@ class Run {
   // velocity that has just opened). The kernels take the sign of a function that is exactly
   // zero at the start from the end of the first step, which would hide a root inside that
   // step (a flight or a slip shorter than the step). Each function therefore carries a tiny
-  // positive offset (1e-3 of the gap and velocity tolerances, 1e-12 of the forces), so its
+  // positive offset (the rounding of its own gap or sliding velocity, Engine::gap_round, 1e-12 of the forces), so its
   // sign is known from the start; roots are located that far on the other side of zero.
   // `grazing`: the previous event of a flying contact changed nothing (its gap returned to
   // zero without approach velocity and the contact still separates: it grazes the surface at
-  // the integration's accuracy); its next landing is then taken only below -pos_tol, so the
+  // the integration's accuracy); its next landing is then taken only below -gap_tol, so the
   // run progresses instead of switching at every rounding-level dip.
   void configure(const Config& cfg, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                  bool grazing = false) {
     cfg_ = cfg;
     layout_ = eng_.layout(cfg);
     gap_offset_.assign(eng_.nc(), 0.0);
-    for (int c = 0; c < eng_.nc(); ++c)
+    eps_gap_.assign(eng_.nc(), 0.0);
+    eps_vel_.assign(eng_.nc(), 0.0);
+    for (int c = 0; c < eng_.nc(); ++c) {
+      // Rounding-size offsets of this contact's own gap and sliding velocity (Engine::gap_round).
+      eps_gap_[c] = eng_.gap_round(c, t, q);
+      if (eng_.contacts()[c].friction >= 0)
+        eps_vel_[c] = eng_.velocity_round(eng_.row(eng_.contacts()[c].friction, t, q, qd), qd);
       if (!is_closed(cfg.modes[c]))
-        gap_offset_[c] = std::min(eng_.gap(c, t, q), 0.0) - (grazing ? eng_.pos_tol(q) : 0.0);
+        gap_offset_[c] = std::min(eng_.gap(c, t, q), 0.0) - (grazing ? eng_.gap_tol(c, t, q) : 0.0);
+    }
     modes_ = cfg.modes;
-    constexpr double kEps = 2.220446049250313e-16;
-    eps_gap_ = 1e3 * kEps * q.cwiseAbs().maxCoeff();
-    eps_vel_ = 1e3 * kEps * qd.cwiseAbs().maxCoeff();
     eps_force_ = 0.0;
     bool closed = false;
     for (ContactMode m : cfg.modes) closed = closed || is_closed(m);
@@ -1126,13 +1297,18 @@ class Run {
   // Event functions of the segment, in the order of `kinds_`.
   struct EventFn {
     int c;
-    enum Kind { lift_off, cone_plus, cone_minus, sliding, gap } kind;
+    /// surfaced: a flight that started inside the surface (gap below −its rounding) came out
+    /// of it; its landing threshold, taken from the start, is then reset to the surface.
+    enum Kind { lift_off, cone_plus, cone_minus, sliding, gap, surfaced } kind;
   };
   std::vector<EventFn> event_functions() const {
     std::vector<EventFn> ev;
     for (int c = 0; c < eng_.nc(); ++c) {
       switch (cfg_.modes[c]) {
-        case ContactMode::flight: ev.push_back({c, EventFn::gap}); break;
+        case ContactMode::flight:
+          ev.push_back({c, EventFn::gap});
+          if (gap_offset_[c] < -2.0 * eps_gap_[c]) ev.push_back({c, EventFn::surfaced});
+          break;
         case ContactMode::contact: ev.push_back({c, EventFn::lift_off}); break;
         case ContactMode::stick:
           ev.push_back({c, EventFn::lift_off});
@@ -1154,12 +1330,16 @@ class Run {
     bool solved = false;
     for (std::size_t i = 0; i < fns_.size(); ++i) {
       const EventFn& f = fns_[i];
+      if (f.kind == EventFn::surfaced) {
+        g[i] = -eng_.gap(f.c, t, q_e_) - eps_gap_[f.c];  // falls through 0 as the gap rises above −rounding
+        continue;
+      }
       if (f.kind == EventFn::gap) {
-        g[i] = eng_.gap(f.c, t, q_e_) - gap_offset_[f.c] + eps_gap_;
+        g[i] = eng_.gap(f.c, t, q_e_) - gap_offset_[f.c] + eps_gap_[f.c];
         continue;
       }
       if (f.kind == EventFn::sliding) {
-        g[i] = cfg_.sigma[f.c] * eng_.vt(f.c, t, q_e_, qd_e_) + eps_vel_;
+        g[i] = cfg_.sigma[f.c] * eng_.vt(f.c, t, q_e_, qd_e_) + eps_vel_[f.c];
         continue;
       }
       if (!solved) {
@@ -1181,7 +1361,7 @@ class Run {
     double tau = std::numeric_limits<double>::infinity();
     bool solved = false;
     for (int c = 0; c < eng_.nc(); ++c) {
-      if (is_closed(cfg_.modes[c]) || !(eng_.gap(c, t, q) <= eng_.pos_tol(q))) continue;
+      if (is_closed(cfg_.modes[c]) || !(eng_.gap(c, t, q) <= eng_.gap_tol(c, t, q))) continue;
       const double v = eng_.vn(c, t, q, qd);
       if (!solved) {
         if (eng_.solve(event_dyn_, layout_, cfg_, t, q, qd, ev_solved_, eng_.method_) != ModelIssue::none)
@@ -1191,7 +1371,7 @@ class Run {
       const Row r = eng_.normal_row(c, t, q, qd);
       const double a = r.g.dot(ev_solved_.qdd) + r.gamma;
       if (a < 0.0 && v > 0.0) tau = std::min(tau, 2.0 * v / -a);
-      else if (a < 0.0) tau = std::min(tau, std::sqrt(2.0 * eng_.pos_tol(q) / -a));
+      else if (a < 0.0) tau = std::min(tau, std::sqrt(2.0 * eng_.gap_tol(c, t, q) / -a));
     }
     return tau;
   }
@@ -1354,9 +1534,10 @@ class Run {
         const double s = step.t_prev + (step.t - step.t_prev) * k / K;
         dense_at(step, s, sq_, sqd_);
         // Below the accuracy of the positions (a dip within it is not resolved anyway).
+        track_penetration(s, sq_, c);  // this open contact's gap inside the step
         const double g = eng_.gap(c, s, sq_) - gap_offset_[c];
         if (g > 0.0) prev_t = s;
-        if (g < -eng_.pos_tol(sq_)) {
+        if (g < -eng_.gap_tol(c, s, sq_)) {
           double lo = prev_t, hi = s;
           for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
             const double mid = 0.5 * (lo + hi);
@@ -1375,7 +1556,7 @@ class Run {
     // They are sampled at a few points inside the step; the first sign change is located by
     // bisection on the dense output.
     bool any_closed_fn = false;
-    for (const EventFn& f : fns_) any_closed_fn = any_closed_fn || f.kind != EventFn::gap;
+    for (const EventFn& f : fns_) any_closed_fn = any_closed_fn || (f.kind != EventFn::gap && f.kind != EventFn::surfaced);
     if (any_closed_fn) {
       constexpr int K = 4;
       gs_.resize(fns_.size());
@@ -1384,7 +1565,7 @@ class Run {
         step.dense(s, ys_.data());
         if (!events(s, ys_.data(), gs_.data())) return false;
         for (std::size_t i = 0; i < fns_.size(); ++i)
-          if (fns_[i].kind != EventFn::gap && gs_[i] < 0.0) return true;
+          if (fns_[i].kind != EventFn::gap && fns_[i].kind != EventFn::surfaced && gs_[i] < 0.0) return true;
         return false;
       };
       double prev_t = step.t_prev;
@@ -1456,7 +1637,30 @@ class Run {
            vel <= opt_.projection_tol * (1.0 + gmax * qd.lpNorm<Eigen::Infinity>());
   }
 
+  /// The deepest penetration of every contact (any mode), into the run's and window's totals
+  /// and into the position residual: a unilateral constraint's violation is a constraint
+  /// residual like any other (issue 19: "max constraint residual 0" was printed for a ball
+  /// 4.8e-6 m inside the floor).
+  void track_penetration(double t, const Eigen::VectorXd& q, int only = -1) {
+    for (int c = 0; c < eng_.nc(); ++c) {
+      if (only >= 0 && c != only) continue;
+      const double pen = -eng_.gap(c, t, q);
+      if (!(pen > 0.0)) continue;
+      ContactStats& st = res_.contacts[c];
+      if (pen > st.run.penetration_max) {
+        st.run.penetration_max = pen;
+        st.run.penetration_time = t;
+      }
+      if (t >= sw_.window_start && pen > st.window.penetration_max) {
+        st.window.penetration_max = pen;
+        st.window.penetration_time = t;
+      }
+      res_.residual_pos_max = std::max(res_.residual_pos_max, pen);
+    }
+  }
+
   void track_residuals(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    track_penetration(t, q);
     for (int i : layout_.imposed) {
       const Row r = eng_.row(i, t, q, qd);
       res_.residual_vel_max = std::max(res_.residual_vel_max, std::abs(r.value(qd)));
@@ -1477,7 +1681,8 @@ class Run {
   Layout layout_;
   std::vector<EventFn> fns_;
   std::vector<double> gap_offset_, gs_, ys_;
-  double eps_gap_ = 0.0, eps_vel_ = 0.0, eps_force_ = 0.0;
+  std::vector<double> eps_gap_, eps_vel_;  ///< per contact (Engine::gap_round, velocity_round)
+  double eps_force_ = 0.0;
   std::vector<ContactMode> modes_;
   Dynamics sample_dyn_, event_dyn_;
   Solved rhs_solved_, ev_solved_, sample_solved_;
@@ -1732,6 +1937,7 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
       q = rr.y.head(n);
       qd = rr.y.tail(n);
     }
+    run.track_penetration(t, q);  // the event's state, before any contact is lifted onto its surface
     Solved before;
     eng.solve(eng.aux_dyn_, run.layout_, cfg, t, q, qd, before, eng.method_);
     Config next;
@@ -1766,7 +1972,10 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
                          : std::to_string(events_at_instant) + " switches at one instant");
       break;
     }
-    const bool nothing_changed = evs.empty() && next.modes == cfg.modes && next.sigma == cfg.sigma;
+    bool surfaced = false;  // a flight came out of the surface: not a grazing landing
+    for (std::size_t i = 0; !late && i < rr.roots.size() && i < run.fns_.size(); ++i)
+      surfaced = surfaced || (rr.roots[i] != 0 && run.fns_[i].kind == Run::EventFn::surfaced);
+    const bool nothing_changed = !surfaced && evs.empty() && next.modes == cfg.modes && next.sigma == cfg.sigma;
     cfg = next;
     run.configure(cfg, t, q, qd, nothing_changed);
     if (t >= options.t_end) {
@@ -1778,9 +1987,62 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
   res.q_end = q;
   res.qd_end = qd;
   res.lcp_solves = eng.lcp_solves_;
+  res.energy_limited_impacts = eng.energy_limited_;
+  res.energy_prevented_max = eng.max_energy_prevented_;
   for (ContactStats& st : res.contacts)
     if (!st.flights.empty() && st.flights.back().end > res.t) st.flights.back().end = res.t;
+  // The time in flight from the flights recorded (their starts and ends are the events), kept
+  // apart from closed_time (summed over the steps with the segment's modes): the report's "in
+  // flight" is this one, and the two must agree (test_switching_contacts_far_from_origin).
+  for (int c = 0; c < eng.nc(); ++c) {
+    ContactStats& st = res.contacts[c];
+    for (const ContactStats::Flight& f : st.flights) {
+      st.run.flight_time += std::max(0.0, f.end - f.start);
+      st.window.flight_time += std::max(0.0, f.end - std::max(f.start, w0));
+    }
+    st.gap_end = eng.gap(c, res.t, q);
+    st.gap_tol_end = eng.gap_tol(c, res.t, q);
+  }
+  run.track_penetration(res.t, q);
   return res;
+}
+
+// ---- resolve_impact (tests of the impact law) -----------------------------------------------------
+
+ImpactOutcome resolve_impact(const Model& model, const std::vector<std::string>& active, double t,
+                             const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                             const SimulationOptions& options, const SwitchingOptions& switching) {
+  ImpactOutcome out;
+  std::vector<int> idx;
+  std::string msg;
+  if (resolve_constraints(model, active, idx, msg) != ModelIssue::none) {
+    out.message = msg;
+    return out;
+  }
+  std::vector<ContactDef> defs;
+  if (const std::string why = contacts_of(model, idx, defs); !why.empty()) {
+    out.message = why;
+    return out;
+  }
+  Engine eng(model, options, switching, idx, defs);
+  eng.anchored_.assign(eng.nc(), 1);
+  eng.pending_loss_.assign(eng.nc(), 0.0);
+  eng.impulsed_.assign(eng.nc(), 0);
+  eng.impulse_n_.assign(eng.nc(), 0.0);
+  eng.impulse_t_.assign(eng.nc(), 0.0);
+  Config before;
+  before.modes.assign(eng.nc(), ContactMode::flight);
+  before.sigma.assign(eng.nc(), 0);
+  std::vector<char> hit(eng.nc(), 0);
+  out.qd_after = qd;
+  if (!eng.impact(t, q, out.qd_after, before, out.events, hit)) {
+    out.message = eng.message_;
+    return out;
+  }
+  out.ok = true;
+  out.energy_change = out.events.empty() ? 0.0 : eng.last_energy_change_;
+  out.energy_limited = eng.energy_limited_;
+  return out;
 }
 
 // ---- switching_reactions (tests of the two formulations) ------------------------------------------

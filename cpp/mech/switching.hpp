@@ -55,6 +55,10 @@ struct ContactEvent {
   double normal = 0.0, tangential = 0.0;
   double vn_before = 0.0, vn_after = 0.0, vt_before = 0.0, vt_after = 0.0;
   double energy_lost = 0.0;
+  /// Newton's restitution impulse would have created kinetic energy at this impact; the
+  /// impulse taken was reduced towards the plastic one until it does not (docs/switching.md,
+  /// "The energy rule").
+  bool energy_limited = false;
 };
 
 /// What one unilateral contact did, over the whole run and over the window [window_start, t_end].
@@ -72,8 +76,15 @@ struct ContactStats {
     double slip_distance = 0.0;       ///< ∫ |v_t| dt over slip (m)
     double energy_impacts = 0.0;      ///< J lost in impacts (this contact's shares)
     double energy_friction = 0.0;     ///< J dissipated by sliding friction, ∫ μ_k λ_n |v_t| dt
+    /// The largest penetration −gap (m, 0 if the gap never went negative) over the accepted
+    /// steps' ends, the samples inside flights and the event states, in any mode, and when.
+    double penetration_max = 0.0;
+    double penetration_time = std::numeric_limits<double>::quiet_NaN();
+    double flight_time = 0.0;         ///< s in flight, from the recorded flights (not closed_time)
   };
   Totals run, window;
+  double gap_end = 0.0;     ///< the gap at the end of the run (m; negative: inside)
+  double gap_tol_end = 0.0; ///< the gap's accuracy there (10 atol |grad g|_1 + rounding, m)
   /// Each flight: [start, end] and its largest gap (end = the run's end for an open flight).
   struct Flight {
     double start = 0.0, end = 0.0, max_gap = 0.0;
@@ -106,6 +117,10 @@ struct SwitchingResult : SimulationResult {
   long segments = 0;      ///< integrations between events
   long lcp_solves = 0;    ///< mode decisions solved by Siconos
   long late_roots = 0;    ///< gap crossings found by sampling a step (two in one step)
+  /// Impacts where Newton's law would have created kinetic energy and the impulse was limited
+  /// (ContactEvent::energy_limited), and the largest energy that would have been created (J).
+  long energy_limited_impacts = 0;
+  double energy_prevented_max = 0.0;
   double window_length = 0.0;
 };
 
@@ -124,6 +139,24 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
                                    const Eigen::VectorXd& qd0, const SimulationOptions& options,
                                    const SwitchingOptions& switching,
                                    const SwitchingObserver& observer = {});
+
+/// One impact resolved as simulate_switching() resolves it (for tests of the impact law): the
+/// contacts of `active` that touch at (t, q) (gap within their accuracy) take part, and if one
+/// approaches, Newton's law with Coulomb friction, the energy rule and the accumulation rule
+/// (switching.zeno_time) give the velocities after. energy_change is ΔT = Λ·(v⁻ + v⁺)/2 of the
+/// impulse (J; never above rounding); events has one row per approaching contact.
+struct ImpactOutcome {
+  bool ok = false;
+  std::string message;
+  Eigen::VectorXd qd_after;
+  std::vector<ContactEvent> events;
+  double energy_change = 0.0;
+  long energy_limited = 0;  ///< 1 when the energy rule limited Newton's impulse
+};
+ImpactOutcome resolve_impact(const Model& model, const std::vector<std::string>& active, double t,
+                             const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                             const SimulationOptions& options = {},
+                             const SwitchingOptions& switching = {});
 
 /// Reactions and accelerations at one state with given contact modes (`modes` per unilateral
 /// constraint of `active`, `slip_sign` ±1 per contact for slip), by the structured solve or

@@ -26,7 +26,11 @@ nlohmann::json totals(const mech::ContactStats::Totals& t, double length) {
           {"max_impact_velocity", t.max_impact_velocity},
           {"slip_distance", t.slip_distance},
           {"energy_impacts", t.energy_impacts},
-          {"energy_friction", t.energy_friction}};
+          {"energy_friction", t.energy_friction},
+          {"flight_fraction", frac(t.flight_time)},
+          {"penetration_max", t.penetration_max},
+          {"penetration_time", std::isfinite(t.penetration_time) ? nlohmann::json(t.penetration_time)
+                                                                 : nlohmann::json(nullptr)}};
 }
 
 }  // namespace
@@ -34,7 +38,7 @@ nlohmann::json totals(const mech::ContactStats::Totals& t, double length) {
 nlohmann::json switching_summary(const mech::SwitchingResult& r, const Setup& s) {
   nlohmann::json j;
   nlohmann::json contacts = nlohmann::json::object();
-  double ei = 0, ef = 0, wi = 0, wf = 0;
+  double ei = 0, ef = 0, wi = 0, wf = 0, pen = 0;
   const double run_length = r.t - 0.0;
   for (const auto& c : r.contacts) {
     nlohmann::json o;
@@ -43,7 +47,11 @@ nlohmann::json switching_summary(const mech::SwitchingResult& r, const Setup& s)
     o["initial_mode"] = k < r.initial_modes.size() ? mech::to_string(r.initial_modes[k]) : "unknown";
     o["run"] = totals(c.run, run_length);
     o["window"] = totals(c.window, r.window_length);
+    o["gap_end"] = c.gap_end;
+    o["gap_tolerance_end"] = c.gap_tol_end;
+    o["inside_at_end"] = c.gap_end < -c.gap_tol_end;
     contacts[c.name] = o;
+    pen = std::max(pen, c.run.penetration_max);
     ei += c.run.energy_impacts;
     ef += c.run.energy_friction;
     wi += c.window.energy_impacts;
@@ -55,6 +63,9 @@ nlohmann::json switching_summary(const mech::SwitchingResult& r, const Setup& s)
   j["segments"] = r.segments;
   j["lcp_solves"] = r.lcp_solves;
   j["late_roots"] = r.late_roots;
+  j["penetration_max"] = pen;
+  j["energy_limited_impacts"] = r.energy_limited_impacts;
+  j["energy_prevented_max"] = r.energy_prevented_max;
   j["zeno_time"] = s.contact.zeno_time;
   j["flight_hmax"] = s.contact.flight_hmax;
   if (std::isfinite(s.period)) j["window_periods"] = r.window_length / s.period;
@@ -89,6 +100,11 @@ std::string switching_report(const nlohmann::json& s) {
      << sw["segments"].get<long>() << " integrations";
   if (sw["lcp_solves"].get<long>() > 0) os << ", " << sw["lcp_solves"].get<long>() << " LCPs solved by Siconos";
   os << ")\n";
+  if (sw.value("energy_limited_impacts", 0L) > 0)
+    os << "    " << sw["energy_limited_impacts"].get<long>()
+       << " impacts where Newton's restitution would have created kinetic energy (up to "
+       << format_significant(sw["energy_prevented_max"].get<double>(), 3)
+       << " J): restitution reduced until it does not (docs/switching.md, the energy rule)\n";
   for (const auto& [name, c] : sw["contacts"].items()) {
     const auto& w = c["window"];
     const double cf = w["contact_fraction"].is_null() ? NAN : w["contact_fraction"].get<double>();
@@ -108,7 +124,12 @@ std::string switching_report(const nlohmann::json& s) {
                            : format_significant(per, 3) + " per period")
            << ")";
       }
-      os << ", in flight " << format_significant(100.0 * (1.0 - cf), 3) << " % of the time, up to "
+      // The time in flight from the flights recorded (flight_fraction); summaries written
+      // before it existed: 1 - contact_fraction.
+      const double ff = w.contains("flight_fraction") && w["flight_fraction"].is_number()
+                            ? w["flight_fraction"].get<double>()
+                            : 1.0 - cf;
+      os << ", in flight " << format_significant(100.0 * ff, 3) << " % of the time, up to "
          << format_significant(w["max_flight_height"].get<double>(), 3) << " m; " << impacts
          << (impacts == 1 ? " impact" : " impacts") << ", landing at up to "
          << format_significant(w["max_impact_velocity"].get<double>(), 3) << " m/s";
@@ -122,6 +143,18 @@ std::string switching_report(const nlohmann::json& s) {
         os << "; slips " << format_significant(d, 3) << " m (" << w["slips"].get<long>()
            << " onsets, " << format_significant(100.0 * w["slip_fraction"].get<double>(), 3)
            << " % of the time)";
+    }
+    if (c["run"].contains("penetration_max")) {
+      const double pm = c["run"]["penetration_max"].get<double>();
+      if (pm > 0.0)
+        os << "\n      deepest penetration " << format_significant(pm, 3) << " m (t = "
+           << format_significant(c["run"]["penetration_time"].get<double>(), 9) << " s)";
+      else
+        os << "\n      never below its surface";
+      if (c.value("inside_at_end", false))
+        os << "; WARNING: ends " << format_significant(-c["gap_end"].get<double>(), 3)
+           << " m inside (beyond the gap's accuracy " << format_significant(c["gap_tolerance_end"].get<double>(), 3)
+           << " m)";
     }
     os << "\n      energy lost in the window: " << format_significant(w["energy_impacts"].get<double>(), 3)
        << " J in impacts, " << format_significant(w["energy_friction"].get<double>(), 3)

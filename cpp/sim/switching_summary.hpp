@@ -15,7 +15,10 @@ namespace pcsim::sim {
 /// energy_dissipated: {impacts, friction, window_impacts, window_friction}, events, segments,
 /// lcp_solves, late_roots, zeno_time, flight_hmax}. Per contact and span: contact_fraction,
 /// slip_fraction, lift_offs, impacts, slips, sticks, reversals, max_flight_height (m),
-/// max_impact_velocity (m/s), slip_distance (m), energy_impacts (J), energy_friction (J).
+/// max_impact_velocity (m/s), slip_distance (m), energy_impacts (J), energy_friction (J),
+/// flight_fraction (from the recorded flights), penetration_max (m) and penetration_time (s);
+/// per contact also gap_end, gap_tolerance_end (m) and inside_at_end; totals penetration_max,
+/// energy_limited_impacts and energy_prevented_max (J) (issue 19).
 nlohmann::json switching_summary(const mech::SwitchingResult& r, const Setup& s);
 
 /// events.csv: t, kind, constraint, mode_before, mode_after, normal, tangential, vn_before,

@@ -5,7 +5,10 @@
 #define BOOST_TEST_MODULE switching_cli
 #include <boost/test/unit_test.hpp>
 
+#include <fstream>
 #include <set>
+
+#include <nlohmann/json.hpp>
 
 #include "cli_util.hpp"
 
@@ -83,4 +86,69 @@ BOOST_AUTO_TEST_CASE(impossible_combinations_are_refused_before_computing) {
   BOOST_TEST(r.status == 2, r.out);
   BOOST_TEST(r.out.find("key 'contact.switching'") != std::string::npos, r.out);
   BOOST_TEST(r.out.find("declares none") != std::string::npos, r.out);
+}
+
+namespace {
+void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+std::string ball_case(const std::string& model, const std::string& initial, double t_end) {
+  return "model = \"" + std::string(PCSIM_SOURCE_DIR) + "/tests/switching/models/" + model +
+         ".toml\"\n[parameters]\ne_n = 0.8\n[initial]\n" + initial +
+         "\n[contact]\nswitching = true\nzeno_time = 1e-9\n[solver]\nmethod = \"auto\"\nrtol = 1e-10\n"
+         "atol = 1e-10\nt_end = " + std::to_string(t_end) + "\n[output]\ndt = 1e-3\nsummary_time = " +
+         std::to_string(t_end) + "\n";
+}
+}  // namespace
+
+// Issue 19: the report and summary say where a contact went inside its surface, count that in
+// "max constraint residual", and take "in flight" from the flights recorded.
+BOOST_AUTO_TEST_CASE(report_states_penetration_residual_and_flight_time) {
+  TempDir dir("switching_cli");
+  // The issue's ball, 50 m along the floor: rests at t = 4.0637 s after 93 impacts.
+  write_file(dir.path / "far.toml", ball_case("ball_far_along_floor", "x = 50.0\ny = 1.0", 6.0));
+  const Result r = pcsim("run '" + (dir.path / "far.toml").string() + "' --out '" + (dir.path / "far").string() + "'");
+  BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
+  BOOST_TEST(r.out.find("93 impacts") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("in flight 67.7 % of the time") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("deepest penetration") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("WARNING") == std::string::npos, r.out);
+  const auto s = nlohmann::json::parse(read(dir.path / "far" / "summary.json"));
+  const auto& floor = s["switching"]["contacts"]["floor"];
+  BOOST_TEST(floor["run"]["penetration_max"].get<double>() < 1e-12);
+  BOOST_TEST(floor["inside_at_end"].get<bool>() == false);
+  BOOST_TEST(s["constraint_residual_max"].get<double>() >= floor["run"]["penetration_max"].get<double>());
+  // In flight: the recorded flights, and the time-series rows whose mode is flight, agree.
+  const double ff = floor["window"]["flight_fraction"].get<double>();
+  BOOST_TEST(std::abs(ff + floor["window"]["contact_fraction"].get<double>() - 1.0) < 1e-9);
+  std::istringstream ts(read(dir.path / "far" / "timeseries.csv"));
+  std::string line;
+  std::getline(ts, line);
+  long rows = 0, flying = 0;
+  while (std::getline(ts, line)) {
+    ++rows;
+    flying += line.substr(line.rfind(',') + 1) == "flight";
+  }
+  BOOST_TEST(std::abs(static_cast<double>(flying) / rows - ff) < 2.0 / rows, flying << " of " << rows << " rows, " << ff);
+
+  // A ball that starts 0.5 m inside the floor and is still inside at the end: said plainly.
+  write_file(dir.path / "inside.toml", ball_case("ball_far_along_floor", "x = 0.0\ny = -0.5\ny_d = 0.1", 0.01));
+  const Result in = pcsim("run '" + (dir.path / "inside.toml").string() + "' --out '" + (dir.path / "inside").string() + "'");
+  BOOST_REQUIRE_MESSAGE(in.status == 0, in.out);
+  BOOST_TEST(in.out.find("deepest penetration 0.5 m (t = 0 s)") != std::string::npos, in.out);
+  BOOST_TEST(in.out.find("WARNING: ends 0.499") != std::string::npos, in.out);
+  BOOST_TEST(in.out.find("max constraint residual 0.5") != std::string::npos, in.out);
+  const auto si = nlohmann::json::parse(read(dir.path / "inside" / "summary.json"));
+  BOOST_TEST(si["switching"]["contacts"]["floor"]["inside_at_end"].get<bool>());
+  BOOST_TEST(si["switching"]["penetration_max"].get<double>() == 0.5);
+
+  // The rocking block with e_n = 1 and friction: the impacts where Newton's law would have
+  // created energy are counted and named.
+  const Result rb = pcsim("run cases/rocking_block.toml --set parameters.e_n=1 --set solver.t_end=5 --out '" +
+                          (dir.path / "rb").string() + "'");
+  BOOST_REQUIRE_MESSAGE(rb.status == 0, rb.out);
+  BOOST_TEST(rb.out.find("impacts where Newton's restitution would have created kinetic energy") != std::string::npos, rb.out);
+  const auto sr = nlohmann::json::parse(read(dir.path / "rb" / "summary.json"));
+  BOOST_TEST(sr["switching"]["energy_limited_impacts"].get<long>() > 0);
+  BOOST_TEST(sr["switching"]["energy_dissipated"]["impacts"].get<double>() >= 0.0);
 }
