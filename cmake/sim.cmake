@@ -33,6 +33,8 @@ pcsim_boost_tests(DIR tests/sim LINKS pcsim_sim)
 
 # The CLI tests call the pcsim executable (defined later; generator expressions resolve at
 # generate time). PCSIM_EXE tells a test where it is.
-if(TEST test_abuse_cli)
-  set_tests_properties(test_abuse_cli PROPERTIES ENVIRONMENT "PCSIM_EXE=$<TARGET_FILE:pcsim>")
-endif()
+foreach(t test_abuse_cli test_runs_trust)
+  if(TEST ${t})
+    set_tests_properties(${t} PROPERTIES ENVIRONMENT "PCSIM_EXE=$<TARGET_FILE:pcsim>")
+  endif()
+endforeach()

@@ -555,10 +555,10 @@ OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
   r.f_evals = f_evals;
   r.transient_periods = total;
   if (!r.converged)
-    r.message = first + "; after " + std::to_string(total) + " periods of transient integration: " + r.message;
+    r.message = first + "; after " + counted(total, "period") + " of transient integration: " + r.message;
   else if (total > 0)
-    r.message = "Newton converged after " + std::to_string(total) +
-                " orbit periods of transient integration from the start (from the start itself: " +
+    r.message = "Newton converged after " + counted(total, "orbit period") +
+                " of transient integration from the start (from the start itself: " +
                 first + ")" + (r.message.empty() ? "" : "; " + r.message);
   return r;
 }
