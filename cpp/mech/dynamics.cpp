@@ -179,9 +179,11 @@ std::string Dynamics::dependent_rows() const {
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(gs, Eigen::ComputeFullU);
   const Eigen::VectorXd sv = svd.singularValues();
   const double smax = sv.size() > 0 ? sv[0] : 0.0;
+  // The dependency was detected by the caller (at its own tolerance): the combinations of
+  // (near-)zero singular values, and at least the smallest one, hold the rows that take part.
   for (int k = 0; k < s_; ++k) {
     const double sk = k < sv.size() ? sv[k] : 0.0;
-    if (sk > 1e-8 * std::max(1.0, smax)) continue;
+    if (sk > 1e-8 * std::max(1.0, smax) && k != s_ - 1) continue;
     const Eigen::VectorXd u = svd.matrixU().col(k);
     const double umax = u.cwiseAbs().maxCoeff();
     for (int r = 0; r < s_; ++r)

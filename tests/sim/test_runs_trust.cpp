@@ -123,7 +123,7 @@ void check_kept(const Result& r, const fs::path& dir, const std::string& reason_
 BOOST_AUTO_TEST_CASE(steady_refuses_an_orbit_period_beyond_the_step_budget) {
   TempDir d;
   write(d.path / "osc.toml", oscillator(1.0));
-  for (const char* omega : {"1e-9", "1e-6", "1e-5"}) {
+  for (const char* omega : {"1e-9", "1e-7", "1e-6"}) {
     const Result r = sh("timeout 60 '" + exe() + "' steady osc.toml --set parameters.omega=" +
                             omega + " --out o",
                         d.path);
@@ -262,8 +262,8 @@ BOOST_AUTO_TEST_CASE(no_nan_or_inf_token_in_a_time_series) {
   BOOST_TEST(!has_nonfinite_token(ts));
   BOOST_TEST(has(ts, ",,"));  // f* in flight: an empty field
   write(d.path / "div.toml",
-        oscillator(1.0, 0.1, "[model.outputs]\nratio = \"x/x\"\ninverse = \"1/(x - x)\"\n") +
-            "[solver]\nt_end = 1.0\n[output]\ndt = 0.1\n");
+        oscillator(1.0, 0.1, "[model.outputs]\nratio = \"sin(x)/x\"\ninverse = \"1/x\"\n") +
+            "[initial]\nx = 0.0\n[solver]\nt_end = 1.0\n[output]\ndt = 0.1\n");
   const Result r2 = sh("'" + exe() + "' run div.toml --out div", d.path);
   BOOST_TEST(r2.status == 0, r2.out);
   const std::string ts2 = read(d.path / "div" / "timeseries.csv");
