@@ -370,9 +370,10 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
                 {"lu_decompositions", res.stats.lu_decompositions},
                 {"wall_seconds", wall}};
   nlohmann::json qe = nlohmann::json::object(), qde = nlohmann::json::object();
+  const bool have_end = res.q_end.size() == n && res.qd_end.size() == n;
   for (int i = 0; i < n; ++i) {
-    qe[source.coordinates()[i]] = res.q_end[i];
-    qde[source.coordinates()[i] + "_d"] = res.qd_end[i];
+    qe[source.coordinates()[i]] = have_end ? res.q_end[i] : q0[i];
+    qde[source.coordinates()[i] + "_d"] = have_end ? res.qd_end[i] : qd0[i];
   }
   j["q_end"] = qe;
   j["qd_end"] = qde;

@@ -460,8 +460,32 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const OrbitResult r = find_orbit(orbit.problem(), orbit.guess(), so);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  if (!r.converged)
-    throw NumericalError("case '" + c.name + "': " + r.message, r.last.t_failed);
+  if (!r.converged) {
+    // What was computed is kept: the Newton iterations (their residuals and corrections) and
+    // the last iterate, in steady.json marked "complete": false with the reason. No period run:
+    // a state that is not periodic is not a steady state.
+    std::string kept;
+    if (out) {
+      try {
+        nlohmann::json j = orbit_json(orbit, r, nlohmann::json());
+        j["complete"] = false;
+        j["failure"] = {{"reason", r.message}, {"t", r.last.t_failed}};
+        j["shooting"]["method"] = to_string(options.method);
+        j["shooting"]["rtol"] = so.rtol;
+        j["shooting"]["atol"] = so.atol;
+        j["shooting"]["wall_seconds"] = wall;
+        out->write("steady.json", j.dump(2) + "\n");
+        out->commit();
+        kept = "; wrote the Newton iterations and the last iterate to " + options.out_dir->string() +
+               "/steady.json, marked \"complete\": false";
+      } catch (const IoError&) {
+        throw;
+      } catch (const std::exception&) {
+        // The record could not be assembled (e.g. no Floquet data): the failure is reported alone.
+      }
+    }
+    throw NumericalError("case '" + c.name + "': " + r.message + kept, r.last.t_failed);
+  }
   nlohmann::json summary;
   double wall_summary = 0;
   if (options.summary) {
@@ -470,6 +494,7 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
     wall_summary = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   }
   nlohmann::json j = orbit_json(orbit, r, summary);
+  j["complete"] = true;
   j["shooting"]["method"] = to_string(options.method);
   j["shooting"]["rtol"] = so.rtol;
   j["shooting"]["atol"] = so.atol;

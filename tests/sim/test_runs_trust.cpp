@@ -340,3 +340,34 @@ BOOST_AUTO_TEST_CASE(a_constraint_that_cannot_be_satisfied_keeps_the_rows_up_to_
   BOOST_TEST(tf > 0.9);
   BOOST_TEST(tf <= 1.0 + 1e-9);
 }
+
+// pcsim steady that does not converge keeps its Newton iterations: steady.json with
+// "complete": false and the reason, exit 3 (one Newton iteration from far away).
+BOOST_AUTO_TEST_CASE(a_steady_state_not_found_keeps_the_newton_iterations) {
+  TempDir d;
+  write(d.path / "duff.toml", read(fs::path(kSource) / "tests/steady/duffing.toml"));
+  const Result f = sh("timeout 120 '" + exe() + "' steady duff.toml --set initial.x=40 "
+                      "--max-iterations 1 --transient-periods 0 --out f",
+                      d.path);
+  BOOST_TEST(f.status == 3, f.out);
+  BOOST_TEST(has(f.out, "marked \"complete\": false"), f.out);
+  BOOST_REQUIRE(fs::exists(d.path / "f" / "steady.json"));
+  const auto j = nlohmann::json::parse(read(d.path / "f" / "steady.json"));
+  BOOST_TEST(j["complete"].get<bool>() == false);
+  BOOST_TEST(!j["failure"]["reason"].get<std::string>().empty());
+  BOOST_TEST(j["newton"]["history"].size() >= 1u);
+}
+
+// An infinite force names its coordinate (not "(coordinate )"), with the time, exit 3, and the
+// run keeps its (single) row. V = -1/x: Q = -1/x^2 is infinite at x = 0.
+BOOST_AUTO_TEST_CASE(an_infinite_force_names_its_coordinate) {
+  TempDir d;
+  write(d.path / "inf.toml",
+        "[model]\nname = \"inf\"\ncoordinates = [\"x\", \"y\"]\n[model.energy]\n"
+        "kinetic = \"0.5*(x_d^2 + y_d^2)\"\npotential = \"-1/x + y^2\"\n[initial]\nx = 0.0\ny = 1.0\n"
+        "[solver]\nt_end = 1.0\n");
+  const Result r = sh("'" + exe() + "' run inf.toml --out o", d.path);
+  BOOST_TEST((r.status == 2 || r.status == 3), r.out);
+  BOOST_TEST(has(r.out, "'x'"), r.out);
+  BOOST_TEST(!has(r.out, "(coordinate )"), r.out);
+}
