@@ -553,7 +553,7 @@ void check_step_budget(const Case& c, const Setup& set, const mech::Model& model
   else
     why = "2 per excitation period of " + format_significant(set.period, 3) + " s";
   throw InputError(where + ": key 'solver.max_steps': expected a step budget of at least " +
-                   format_significant(b.steps, 3) + " steps for " + what + " (" + why +
+                   format_significant(std::ceil(b.steps), 3) + " steps for " + what + " (" + why +
                    ": no integrator resolves an oscillation with fewer), got " +
                    std::to_string(set.max_steps) + " (at most " + format_number(1e9) +
                    "); shorten the time span or raise solver.max_steps (README, \"Limits\")");

@@ -458,8 +458,8 @@ OrbitResult newton_shooting(const OrbitProblem& problem, const OrbitPoint& guess
       res.history.push_back(rec);
       res.point = x;
       res.last = L;
-      res.message = "Newton shooting did not converge in " + std::to_string(options.max_iterations) +
-                    " iterations: residual reached " + format_significant(L.residual_norm, 3) +
+      res.message = "Newton shooting did not converge in " + counted(options.max_iterations, "iteration") +
+                    ": residual reached " + format_significant(L.residual_norm, 3) +
                     " (weighted by atol + rtol |y|; max |y(kT) - y(0)| = " +
                     format_significant(L.residual_max, 3) + "), last correction " +
                     format_significant(corr, 3);
