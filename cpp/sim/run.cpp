@@ -31,6 +31,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = 3.14159265358979323846;
+/// The largest model whose oscillation frequencies bound the step budget (minimal_steps).
+constexpr int kMaxModalCoordinates = 200;
 
 // The time-series rows, the window extremes of every column, written as the run goes.
 class Monitor {
@@ -472,6 +474,11 @@ StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>
   StepBound b;
   const int n = model.n();
   if (!(duration > 0) || q0.size() != n) return b;
+  const double f_exc = std::isfinite(excitation_period) && excitation_period > 0 ? 1 / excitation_period : 0;
+  if (n > kMaxModalCoordinates) {
+    b.steps = 2 * duration * f_exc;
+    return b;
+  }
   const Eigen::VectorXd qd = Eigen::VectorXd::Zero(n);
   Eigen::MatrixXd M(n, n);
   Eigen::VectorXd h(n), Q(n), Qp(n), Qm(n);
@@ -494,7 +501,9 @@ StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>
     C.col(j) = -(Qp - Qm) / 2e-6;
   }
   double f_max = 0;
-  if (M.allFinite() && K.allFinite() && C.allFinite()) {
+  // The modal estimate costs O(n^3) time and O(n^2) memory: done for models of up to
+  // kMaxModalCoordinates coordinates; larger ones are bounded by their excitation only.
+  if (n <= kMaxModalCoordinates && M.allFinite() && K.allFinite() && C.allFinite()) {
     // The motion on the active constraints: the null space D of their rows g.
     std::vector<int> rows;
     for (const auto& name : active)
@@ -535,7 +544,6 @@ StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>
     }
   }
   if (f_max > 0) b.fastest_period = 1 / f_max;
-  const double f_exc = std::isfinite(excitation_period) && excitation_period > 0 ? 1 / excitation_period : 0;
   b.steps = 2 * duration * std::max(f_max, f_exc);
   return b;
 }
