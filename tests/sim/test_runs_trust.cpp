@@ -246,6 +246,12 @@ BOOST_AUTO_TEST_CASE(response_refuses_keys_that_cannot_move_the_orbit) {
   }
   const Result ok = sh("timeout 120 '" + exe() + "' response osc.toml --vary parameters.omega=0.8,1.2 --out ok", d.path);
   BOOST_TEST(ok.status == 0, ok.out);
+  // The sieve's friction coefficient enters only its verdicts (the rolling margin), which the
+  // response's columns show: accepted.
+  const Result f = sh("timeout 300 '" + exe() + "' response '" + kSource +
+                          "/cases/sieve_1995.toml' --vary parameters.f=0.2,0.3 --out f",
+                      d.path);
+  BOOST_TEST(f.status == 0, f.out);
 }
 
 // The shipped hopping case: f* is undefined in flight (0/0); its field is empty, never "-nan".
