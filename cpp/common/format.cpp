@@ -19,6 +19,10 @@ std::string format_number(double v) {
   return s;
 }
 
+std::string counted(long long n, const std::string& noun, const std::string& plural) {
+  return std::to_string(n) + " " + (n == 1 || n == -1 ? noun : (plural.empty() ? noun + "s" : plural));
+}
+
 std::string format_significant(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);

@@ -15,4 +15,9 @@ void append_number(std::string& out, double v);
 /// v with `digits` significant digits (printf %.*g), for messages and reports.
 std::string format_significant(double v, int digits = 6);
 
+/// A count with its noun in the right number: counted(1, "step") = "1 step", counted(3, "step")
+/// = "3 steps" (plural: the noun + "s" unless given). Messages say counts through this, so no
+/// message reads "1 steps".
+std::string counted(long long n, const std::string& noun, const std::string& plural = "");
+
 }  // namespace pcsim

@@ -24,7 +24,7 @@ std::string fmt(double v) { return format_significant(v, 6); }
 std::string coordinate_list(const Model& model, const Eigen::VectorXd& v, double threshold) {
   std::string out;
   for (int i = 0; i < v.size() && i < model.n(); ++i) {
-    if (!(std::abs(v[i]) <= threshold)) {  // also catches NaN
+    if (!std::isfinite(v[i]) || std::abs(v[i]) > threshold) {  // NaN and ±inf always named
       if (!out.empty()) out += ", ";
       out += "'" + model.coordinates()[i] + "'";
     }
@@ -160,6 +160,53 @@ ModelIssue Dynamics::factorize_mass() {
                   fmt(t_) + who + ": every coordinate needs inertia");
 }
 
+std::string Dynamics::dependent_rows() const {
+  // The rows of g (each scaled to unit length, so a constraint's units do not matter) that take
+  // part in a linear dependency: the left singular vectors of the (near-)zero singular values
+  // have their large components on exactly those rows. A row that vanishes is named alone.
+  if (s_ == 0) return "";
+  Eigen::MatrixXd gs = g;
+  std::vector<bool> involved(static_cast<std::size_t>(s_), false);
+  for (int r = 0; r < s_; ++r) {
+    const double nr = gs.row(r).norm();
+    if (!(nr > 1e-12 * std::max(1.0, g.norm()))) {
+      involved[static_cast<std::size_t>(r)] = true;  // a zero row depends on any other
+      gs.row(r).setZero();
+    } else {
+      gs.row(r) /= nr;
+    }
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(gs, Eigen::ComputeFullU);
+  const Eigen::VectorXd sv = svd.singularValues();
+  const double smax = sv.size() > 0 ? sv[0] : 0.0;
+  // The dependency was detected by the caller (at its own tolerance): the combinations of
+  // (near-)zero singular values, and at least the smallest one, hold the rows that take part.
+  for (int k = 0; k < s_; ++k) {
+    const double sk = k < sv.size() ? sv[k] : 0.0;
+    if (sk > 1e-8 * std::max(1.0, smax) && k != s_ - 1) continue;
+    const Eigen::VectorXd u = svd.matrixU().col(k);
+    const double umax = u.cwiseAbs().maxCoeff();
+    for (int r = 0; r < s_; ++r)
+      if (std::abs(u[r]) > 0.1 * umax) involved[static_cast<std::size_t>(r)] = true;
+  }
+  std::string names;
+  for (int r = 0; r < s_; ++r)
+    if (involved[static_cast<std::size_t>(r)])
+      names += (names.empty() ? "'" : ", '") + model_->constraints()[active_->rows()[r]].name + "'";
+  return names;
+}
+
+std::string Dynamics::dependency_message() const {
+  const std::string names = dependent_rows();
+  std::string first;
+  for (std::size_t i = 1; i < names.size() && names[i] != '\''; ++i) first += names[i];
+  return "the active constraints " + (names.empty() ? std::string("(which could not be told)") : names) +
+         " are linearly dependent at t = " + fmt(t_) +
+         ": their reactions are not determined there. Switch one of them off (e.g. --set "
+         "constraints." + (first.empty() ? std::string("NAME") : first) +
+         "=false), or change the model or the initial state so that they stay independent";
+}
+
 ModelIssue Dynamics::null_basis() {
   if (D_for_ == active_->id() && active_->constant_rows()) return ModelIssue::none;
   HuangOptions ho;
@@ -176,10 +223,13 @@ ModelIssue Dynamics::null_basis() {
         names += (names.empty() ? "'" : ", '") + model_->constraints()[active_->rows()[r]].name + "'";
       }
     }
+    const std::string involved = dependent_rows();
     return fail(ModelIssue::dependent_constraints,
-                "the active constraints are linearly dependent at t = " + fmt(t_) + ": " + names +
-                    " depend on the constraints before them (rank " + std::to_string(hr.rank) +
-                    " < " + std::to_string(s_) + ")");
+                dependency_message() + " (rank " + std::to_string(hr.rank) + " < " +
+                    std::to_string(s_) + (names.empty() || names == involved
+                                              ? std::string()
+                                              : "; " + names + " depend on the rows before them") +
+                    ")");
   }
   const NullBasisResult nb = huang_null_basis(hr.H, hr.rank, ho);
   if (nb.info != 0 || nb.D.cols() != n_ - s_ || nb.D.rows() != n_) {
@@ -220,7 +270,7 @@ ModelIssue Dynamics::solve_compatibility() {
   qdd = llt_.solve(tmp_);
   if (!R.allFinite() || !qdd.allFinite()) {
     return fail(ModelIssue::dependent_constraints,
-                "the compatibility system [G; D^T] R = [-G0; 0] is singular at t = " + fmt(t_));
+                dependency_message() + " (the compatibility system [G; D^T] R = [-G0; 0] is singular)");
   }
   return ModelIssue::none;
 }
@@ -317,9 +367,7 @@ ModelIssue Dynamics::solve_compatibility_structured() {
     return fail(ModelIssue::singular_mass_matrix, message_);
   }
   if (singular_s_) {
-    return fail(ModelIssue::dependent_constraints,
-                "the active constraints are linearly dependent at t = " + fmt(t_) +
-                    " (g M^-1 g^T is singular); check_model names them");
+    return fail(ModelIssue::dependent_constraints, dependency_message() + " (g M^-1 g^T is singular)");
   }
   if (s_ == 0) {
     R.setZero();
@@ -340,7 +388,7 @@ ModelIssue Dynamics::solve_kkt() {
   b << f, -gamma;
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(K);
   if (!lu.isInvertible()) {
-    return fail(ModelIssue::dependent_constraints, "the KKT matrix is singular at t = " + fmt(t_));
+    return fail(ModelIssue::dependent_constraints, dependency_message() + " (the KKT matrix is singular)");
   }
   const Eigen::VectorXd x = lu.solve(b);
   qdd = x.head(n_);

@@ -83,6 +83,10 @@ class Dynamics {
   ModelIssue fail(ModelIssue issue, std::string message);
   ModelIssue factorize_mass();
   ModelIssue null_basis();
+  /// The names of the active constraints whose rows of g take part in a linear dependency
+  /// ("'a', 'b'"), and the message that says so with the time and what the user can do.
+  std::string dependent_rows() const;
+  std::string dependency_message() const;
   ModelIssue solve_compatibility();
   ModelIssue solve_compatibility_structured();
   template <int N, int NS> bool structured_kernel();

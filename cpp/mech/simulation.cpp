@@ -255,6 +255,10 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
                           const StepObserver& observer) {
   SimulationResult result;
   result.t = options.t0;
+  // The state reached: the start until the integration moves it (a run failing before its
+  // first step still reports where it stood).
+  result.q_end = q0;
+  result.qd_end = qd0;
   const CheckResult check =
       check_model(model, options.active_constraints, options.t0, q0, qd0, options.kernel);
   if (check.issue != ModelIssue::none) {

@@ -294,7 +294,8 @@ ExplicitRkResult explicit_rk_integrate(const OdeProblem& problem, double t0,
       break;
     }
     case OdeStatus::too_many_steps:
-      r.message = where + ": more than " + std::to_string(iwork[0]) + " steps, at t = " +
+      r.message = where + ": the step budget of " + counted(iwork[0], "step") +
+                  " (solver.max_steps) is used up at t = " +
                   at_time(t);
       break;
     case OdeStatus::step_too_small:

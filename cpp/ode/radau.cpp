@@ -365,7 +365,8 @@ RadauResult radau_integrate(const OdeProblem& problem, double t0, const Eigen::V
       break;
     }
     case OdeStatus::too_many_steps:
-      r.message = where + ": more than " + std::to_string(iwork[0]) + " steps" + at;
+      r.message = where + ": the step budget of " + counted(iwork[0], "step") +
+                  " (solver.max_steps) is used up" + at;
       break;
     case OdeStatus::step_too_small:
       r.message = where + ": step size too small (error test)" + at + " (h = " + at_time(h) + ")";

@@ -124,6 +124,18 @@ KeySpec integer_key(std::string section, std::string name, std::string meaning, 
 constexpr double kMaxCount = 1e6;
 /// The smallest relative tolerance a case may ask for (README, "Limits and failure behaviour").
 constexpr double kMinRtol = 1e-13;
+/// The default tolerances (README, "Case files"): a 1 m pendulum released horizontally
+/// (IFToMM A01) ends 10 s later within 1.1e-7 m of the exact motion with them (1.8e-5 m with
+/// the former 1e-6 / 1e-8, whose error showed in the 5th of the report's 6 printed digits).
+constexpr double kDefaultRtol = 1e-8;
+constexpr double kDefaultAtol = 1e-10;
+/// The largest relative tolerance (README, "Limits"): the reports print 3 to 6 significant
+/// digits and their verdicts compare margins to 3; a relative error per step above 1e-3
+/// cannot give even the third digit.
+constexpr double kMaxRtol = 1e-3;
+/// The largest absolute tolerance in any unit: a run checks it against its own coordinates'
+/// magnitudes as well (run.cpp, tolerance_check).
+constexpr double kMaxAtol = 1e-3;
 /// The shortest run a case may ask for, s.
 constexpr double kMinTEnd = 1e-9;
 /// The largest solver.max_steps (the default is 1e6).
@@ -206,11 +218,22 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   la.choices = {"auto", "own", "lapack"};
   la.string_default = "auto";
   keys.push_back(la);
-  keys.push_back(number_key("solver", "rtol",
-                            "relative tolerance; below 1e-13 the error estimates are dominated "
-                            "by the rounding of double precision",
-                            1e-6, kMinRtol, false));
-  keys.push_back(number_key("solver", "atol", "absolute tolerance", 1e-8, 0.0, true));
+  {
+    KeySpec rtol = number_key("solver", "rtol",
+                              "relative tolerance; below 1e-13 the error estimates are dominated "
+                              "by the rounding of double precision, above 1e-3 no printed "
+                              "digit of the report would be reliable",
+                              kDefaultRtol, kMinRtol, false);
+    rtol.max = kMaxRtol;
+    keys.push_back(rtol);
+    KeySpec atol = number_key("solver", "atol",
+                              "absolute tolerance, in the units of each coordinate and velocity; "
+                              "at most 1e-3, and a run whose coordinates move by less than 100 "
+                              "atol is reported unreliable (exit 3)",
+                              kDefaultAtol, 0.0, true);
+    atol.max = kMaxAtol;
+    keys.push_back(atol);
+  }
   keys.push_back(number_key("solver", "t_end",
                             "end time, s; at least 1e-9 s, so the run and its summary window are "
                             "more than a rounding error long",
@@ -746,8 +769,8 @@ Setup setup_of(const Case& c) {
   s.linear_algebra = la == "own"      ? RadauOptions::LinearAlgebra::own_lu
                      : la == "lapack" ? RadauOptions::LinearAlgebra::lapack
                                       : RadauOptions::LinearAlgebra::automatic;
-  s.rtol = t["solver"]["rtol"].value_or(1e-6);
-  s.atol = t["solver"]["atol"].value_or(1e-8);
+  s.rtol = t["solver"]["rtol"].value_or(kDefaultRtol);
+  s.atol = t["solver"]["atol"].value_or(kDefaultAtol);
   s.t_end = t["solver"]["t_end"].value_or(10.0);
   s.h0 = t["solver"]["h0"].value_or(0.0);
   s.max_steps = static_cast<long>(t["solver"]["max_steps"].value_or(int64_t{1000000}));

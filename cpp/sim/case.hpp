@@ -125,7 +125,7 @@ struct Setup {
   mech::Form form = mech::Form::ode;
   OdeMethod method = OdeMethod::automatic;
   RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
-  double rtol = 1e-6, atol = 1e-8, t_end = 10.0, h0 = 0.0;
+  double rtol = 1e-8, atol = 1e-10, t_end = 10.0, h0 = 0.0;
   long max_steps = 1000000;
   double dt = 1e-3;                     ///< time-series interval
   /// initial.from = "equilibrium": the run starts from the static equilibrium (run_case solves

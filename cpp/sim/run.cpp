@@ -11,6 +11,9 @@
 #include <sstream>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
@@ -27,6 +30,9 @@ namespace pcsim::sim {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPi = 3.14159265358979323846;
+/// The largest model whose oscillation frequencies bound the step budget (minimal_steps).
+constexpr int kMaxModalCoordinates = 200;
 
 // The time-series rows, the window extremes of every column, written as the run goes.
 class Monitor {
@@ -248,6 +254,10 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
     start_json["holding_forces"] = held;
   }
   if (options.wrap_model) model = options.wrap_model(model);
+  // The step budget against the run's length, before any integration (README, "Limits").
+  if (!options.start)
+    check_step_budget(c, set, *model, set.t_end,
+                      "solver.t_end = " + format_significant(set.t_end, 6) + " s of motion");
 
   const mech::SimulationOptions so = simulation_options(set);
 
@@ -318,12 +328,17 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
                      "simulated: " + res.message);
   }
   const bool complete = res.status == mech::SimulationStatus::success;
-  if (!complete && !(stopped_by_client && res.status == mech::SimulationStatus::stopped_by_observer)) {
-    throw NumericalError("case '" + c.name + "': the simulation failed at t = " +
-                             format_significant(res.t, 9) + " s (" + to_string(res.status) +
-                             "): " + res.message,
-                         res.t);
-  }
+  const bool client_stop =
+      stopped_by_client && res.status == mech::SimulationStatus::stopped_by_observer;
+  // A numerical failure (step size too small, step budget used up, a state that is not finite,
+  // a failed projection or LCP, a model that cannot be evaluated): what was computed up to the
+  // failure is kept (the time-series rows up to the last accepted step, a summary marked
+  // "complete": false with the reason and the time), and the run fails with exit 3.
+  const std::string failure =
+      complete || client_stop
+          ? std::string()
+          : "the simulation failed at t = " + format_significant(res.t, 9) + " s (" +
+                to_string(res.status) + "): " + res.message;
 
   const auto cols = timeseries_columns(c);
   const std::size_t n_modes = switched_contacts(c).size();
@@ -357,9 +372,10 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
                 {"lu_decompositions", res.stats.lu_decompositions},
                 {"wall_seconds", wall}};
   nlohmann::json qe = nlohmann::json::object(), qde = nlohmann::json::object();
+  const bool have_end = res.q_end.size() == n && res.qd_end.size() == n;
   for (int i = 0; i < n; ++i) {
-    qe[source.coordinates()[i]] = res.q_end[i];
-    qde[source.coordinates()[i] + "_d"] = res.qd_end[i];
+    qe[source.coordinates()[i]] = have_end ? res.q_end[i] : q0[i];
+    qde[source.coordinates()[i] + "_d"] = have_end ? res.qd_end[i] : qd0[i];
   }
   j["q_end"] = qe;
   j["qd_end"] = qde;
@@ -380,13 +396,50 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   j["initial_correction"] = {{"position", res.initial_correction_pos},
                              {"velocity", res.initial_correction_vel}};
   if (!start_json.is_null()) j["initial_state"] = start_json;
+  // The absolute tolerance against the motion's own magnitudes (README, "Limits"): the error
+  // per step of a component y_i is held to atol + rtol |y_i|; where atol is more than a hundredth
+  // of a coordinate's or velocity's largest magnitude over the window, not even two digits of
+  // that component (and of what depends on it: reactions, verdicts) are controlled. Components
+  // a million times smaller than the largest of their kind (rounding-level motion) are left out.
+  std::string unreliable;
+  {
+    constexpr double kAtolFraction = 1e-2, kNegligible = 1e-6;
+    auto scale = [&](const std::string& col) {
+      const ColumnExtremes& e = ext.at(col);
+      const double v = std::max(std::abs(e.min), std::abs(e.max));
+      return std::isfinite(v) ? v : 0.0;
+    };
+    for (int kind = 0; kind < 2 && unreliable.empty(); ++kind) {
+      double largest = 0;
+      for (const auto& q : source.coordinates()) largest = std::max(largest, scale(kind ? q + "_d" : q));
+      for (const auto& q : source.coordinates()) {
+        const std::string col = kind ? q + "_d" : q;
+        const double v = scale(col);
+        if (v > 0 && v >= kNegligible * largest && set.atol > kAtolFraction * v) {
+          unreliable = "solver.atol = " + format_significant(set.atol, 3) + " is more than 1/100 of " +
+                       (kind ? "velocity " : "coordinate ") + col + "'s largest magnitude " +
+                       format_significant(v, 3) + " over the summary window, so not even its "
+                       "second digit (nor the reactions and verdicts that depend on it) is "
+                       "controlled; set solver.atol <= " + format_significant(kAtolFraction * 1e-2 * v, 2);
+          break;
+        }
+      }
+    }
+  }
+  j["accuracy"] = {{"reliable", unreliable.empty()},
+                   {"rtol", set.rtol},
+                   {"atol", set.atol}};
+  if (!unreliable.empty()) j["accuracy"]["reason"] = unreliable;
   j["complete"] = complete;
   if (set.contact.switching) j["switching"] = switching_summary(sres, set);
   if (client_mon) client_mon->finish(res, ext, j);
-  if (!complete) {
+  if (client_stop) {
     // The model's client ended the run: what was computed up to then is written, marked as
     // such, and the run fails (exit 3) with the client's reason.
     j["stopped"] = {{"t", client_mon->stop_time()}, {"reason", client_mon->stop_reason()}};
+    j["t_reached"] = res.t;
+  } else if (!complete) {
+    j["failure"] = {{"t", res.t}, {"status", to_string(res.status)}, {"reason", failure}};
     j["t_reached"] = res.t;
   }
 
@@ -398,13 +451,120 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   } else if (dir) {
     writer->finish();
   }
-  if (!complete)
-    throw NumericalError("case '" + c.name + "': " + client_mon->stop_reason() +
-                             (out ? "; wrote what was computed up to then to " +
-                                        options.out_dir->string() + ", marked \"complete\": false"
+  if (complete && !unreliable.empty())
+    throw NumericalError("case '" + c.name + "': the result is not reliable: " + unreliable +
+                             (out ? "; wrote it to " + options.out_dir->string() +
+                                        " with \"accuracy\": {\"reliable\": false}"
                                   : std::string()),
-                         client_mon->stop_time());
+                         res.t);
+  if (!complete) {
+    const std::string kept = out ? "; wrote what was computed up to then to " +
+                                       options.out_dir->string() + ", marked \"complete\": false"
+                                 : std::string();
+    if (client_stop)
+      throw NumericalError("case '" + c.name + "': " + client_mon->stop_reason() + kept,
+                           client_mon->stop_time());
+    throw NumericalError("case '" + c.name + "': " + failure + kept, res.t);
+  }
   return j;
+}
+
+StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>& active,
+                        const Eigen::VectorXd& q0, double excitation_period, double duration) {
+  StepBound b;
+  const int n = model.n();
+  if (!(duration > 0) || q0.size() != n) return b;
+  const double f_exc = std::isfinite(excitation_period) && excitation_period > 0 ? 1 / excitation_period : 0;
+  if (n > kMaxModalCoordinates) {
+    b.steps = 2 * duration * f_exc;
+    return b;
+  }
+  const Eigen::VectorXd qd = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd M(n, n);
+  Eigen::VectorXd h(n), Q(n), Qp(n), Qm(n);
+  model.kinetic_terms(0.0, q0, qd, M, h);
+  // K = -dQ/dq and C = -dQ/dq̇ by central differences (relative steps).
+  Eigen::MatrixXd K(n, n), C(n, n);
+  for (int j = 0; j < n; ++j) {
+    const double hq = 1e-6 * (1.0 + std::abs(q0[j]));
+    Eigen::VectorXd qp = q0, qm = q0;
+    qp[j] += hq;
+    qm[j] -= hq;
+    model.forces(0.0, qp, qd, Qp);
+    model.forces(0.0, qm, qd, Qm);
+    K.col(j) = -(Qp - Qm) / (2 * hq);
+    Eigen::VectorXd vp = qd, vm = qd;
+    vp[j] += 1e-6;
+    vm[j] -= 1e-6;
+    model.forces(0.0, q0, vp, Qp);
+    model.forces(0.0, q0, vm, Qm);
+    C.col(j) = -(Qp - Qm) / 2e-6;
+  }
+  double f_max = 0;
+  // The modal estimate costs O(n^3) time and O(n^2) memory: done for models of up to
+  // kMaxModalCoordinates coordinates; larger ones are bounded by their excitation only.
+  if (n <= kMaxModalCoordinates && M.allFinite() && K.allFinite() && C.allFinite()) {
+    // The motion on the active constraints: the null space D of their rows g.
+    std::vector<int> rows;
+    for (const auto& name : active)
+      if (const int i = model.constraint_index(name); i >= 0) rows.push_back(i);
+    Eigen::MatrixXd D = Eigen::MatrixXd::Identity(n, n);
+    if (!rows.empty()) {
+      const int s = static_cast<int>(rows.size());
+      Eigen::MatrixXd g(s, n);
+      Eigen::VectorXd g0(s), gamma(s);
+      model.constraint_rows(rows, 0.0, q0, qd, g, g0, gamma);
+      if (g.allFinite()) {
+        const Eigen::JacobiSVD<Eigen::MatrixXd> svd(g, Eigen::ComputeFullV);
+        const Eigen::VectorXd sv = svd.singularValues();
+        int rank = 0;
+        for (int i = 0; i < sv.size(); ++i) rank += sv[i] > 1e-10 * std::max(1.0, sv[0]);
+        D = svd.matrixV().rightCols(n - rank);
+      }
+    }
+    if (D.cols() > 0) {
+      Eigen::MatrixXd Kr = D.transpose() * K * D, Mr = D.transpose() * M * D,
+                      Cr = D.transpose() * C * D;
+      Kr = 0.5 * (Kr + Kr.transpose()).eval();
+      Mr = 0.5 * (Mr + Mr.transpose()).eval();
+      Eigen::LLT<Eigen::MatrixXd> llt(Mr);
+      if (llt.info() == Eigen::Success) {
+        const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(Kr, Mr);
+        if (es.info() == Eigen::Success)
+          for (int k = 0; k < es.eigenvalues().size(); ++k) {
+            const double lambda = es.eigenvalues()[k];
+            if (!(lambda > 0)) continue;
+            const double w = std::sqrt(lambda);
+            const Eigen::VectorXd x = es.eigenvectors().col(k);  // x^T Mr x = 1
+            const double zeta = x.dot(Cr * x) / (2 * w);
+            if (zeta >= 1) continue;  // overdamped: no oscillation to resolve
+            f_max = std::max(f_max, w / (2 * kPi));
+          }
+      }
+    }
+  }
+  if (f_max > 0) b.fastest_period = 1 / f_max;
+  b.steps = 2 * duration * std::max(f_max, f_exc);
+  return b;
+}
+
+void check_step_budget(const Case& c, const Setup& set, const mech::Model& model, double duration,
+                       const std::string& what) {
+  const StepBound b = minimal_steps(model, set.active, set.q0, set.period, duration);
+  if (!(b.steps > static_cast<double>(set.max_steps))) return;
+  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  std::string why;
+  if (std::isfinite(b.fastest_period) &&
+      !(std::isfinite(set.period) && set.period < b.fastest_period))
+    why = "2 per period of its fastest oscillation, " + format_significant(b.fastest_period, 3) +
+          " s, at the initial state";
+  else
+    why = "2 per excitation period of " + format_significant(set.period, 3) + " s";
+  throw InputError(where + ": key 'solver.max_steps': expected a step budget of at least " +
+                   format_significant(std::ceil(b.steps), 3) + " steps for " + what + " (" + why +
+                   ": no integrator resolves an oscillation with fewer), got " +
+                   std::to_string(set.max_steps) + " (at most " + format_number(1e9) +
+                   "); shorten the time span or raise solver.max_steps (README, \"Limits\")");
 }
 
 mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& set, const mech::Model& model) {
@@ -428,10 +588,20 @@ mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& set, const 
   return e;
 }
 
+namespace {
+
+// The accuracy line of every report: only when the run's tolerance does not control it.
+std::string accuracy_line(const nlohmann::json& s) {
+  if (!s.contains("accuracy") || s["accuracy"].value("reliable", true)) return "";
+  return "  UNRELIABLE: " + s["accuracy"].value("reason", std::string()) + "\n";
+}
+
+}  // namespace
+
 std::string human_report(const Case& c, const nlohmann::json& s) {
   if (c.client) {
     std::string r = c.client->report(c, s);
-    if (!r.empty()) return r;
+    if (!r.empty()) return accuracy_line(s) + r + accuracy_line(s);
   }
   std::ostringstream os;
   os << "pcsim run: case '" << s["case"].get<std::string>() << "' (" << c.model->origin() << ", "
@@ -471,6 +641,7 @@ std::string human_report(const Case& c, const nlohmann::json& s) {
      << format_significant(st["wall_seconds"].get<double>(), 3)
      << " s wall; max constraint residual "
      << format_significant(s["constraint_residual_max"].get<double>(), 2) << "\n";
+  os << accuracy_line(s);
   return os.str();
 }
 

@@ -49,6 +49,25 @@ struct RunOptions {
   OutputDirectory* directory = nullptr;
 };
 
+/// The fewest integration steps that any method can take over `duration` s of a model's
+/// motion (README, "Limits"): 2 steps per period of the fastest oscillation of the model
+/// linearized at (q0, t = 0) on its active constraints (overdamped modes left out), and 2 per
+/// excitation period. Fewer steps than 2 per period cannot resolve an oscillation (its samples
+/// alias): the error control of either integrator (the explicit pair and Radau IIA alike)
+/// forces at least this many. 0 where it cannot be told (no finite linearization).
+struct StepBound {
+  double steps = 0;                 ///< the least number of steps over the duration
+  double fastest_period = INFINITY; ///< s, the period of the fastest oscillation (inf: none)
+};
+StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>& active,
+                        const Eigen::VectorXd& q0, double excitation_period, double duration);
+
+/// Refuses (pcsim::InputError naming solver.max_steps, the duration's key and the bound) a run
+/// of `duration` s whose step budget cannot be enough by minimal_steps(); `what` says what the
+/// duration is ("solver.t_end = 10 s", "the orbit period 2*pi/omega = 6e9 s").
+void check_step_budget(const Case& c, const Setup& setup, const mech::Model& model, double duration,
+                       const std::string& what);
+
 /// The static equilibrium a case starts from with initial.from = "equilibrium": the forces at
 /// rest averaged over one excitation period (the model's period; at t = 0 if it has none),
 /// balanced by the reactions of the active constraints, the model's slow coordinates held at

@@ -77,13 +77,13 @@ std::string events_csv(const mech::SwitchingResult& r) {
       "t,kind,constraint,mode_before,mode_after,normal,tangential,vn_before,vn_after,vt_before,"
       "vt_after,energy_lost\n";
   for (const auto& e : r.events) {
-    append_number(out, e.t);
+    if (std::isfinite(e.t)) append_number(out, e.t);
     out += ',';
     out += mech::to_string(e.kind);
     out += ',' + e.constraint + ',' + mech::to_string(e.mode_before) + ',' + mech::to_string(e.mode_after);
     for (double v : {e.normal, e.tangential, e.vn_before, e.vn_after, e.vt_before, e.vt_after, e.energy_lost}) {
       out += ',';
-      append_number(out, v);
+      if (std::isfinite(v)) append_number(out, v);  // else empty: no "nan" token in a CSV
     }
     out += '\n';
   }

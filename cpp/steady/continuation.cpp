@@ -208,7 +208,7 @@ Branch continue_branch(const std::function<OrbitProblem(double)>& problem_of,
           break;
         }
       }
-      if (!ok) why = "the corrector did not converge in " + std::to_string(o.corrector_iterations) + " iterations";
+      if (!ok) why = "the corrector did not converge in " + counted(o.corrector_iterations, "iteration");
     } catch (const std::exception& e) {
       ok = false;
       why = e.what();
@@ -277,7 +277,7 @@ Branch continue_branch(const std::function<OrbitProblem(double)>& problem_of,
     if (it <= 3) ds = std::min(ds * 1.5, ds_max);
     else if (it >= 6) ds *= 0.6;
   }
-  b.message = "the continuation stopped after " + std::to_string(o.max_points) + " points";
+  b.message = "the continuation stopped after " + counted(o.max_points, "point");
   return b;
 }
 

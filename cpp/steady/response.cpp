@@ -58,6 +58,13 @@ ResponseResult response_case(const sim::Case& c, const ResponseOptions& o) {
   std::vector<double> listed;
   for (const auto& t : axis.texts) listed.push_back(std::stod(t));
   const CaseOrbit base(c, o.periods, axis.key);  // checks the case and the key
+  // The orbit period (and with it the step budget's feasibility) moves with the key: checked
+  // at the smallest and the largest value before any work (CaseOrbit refuses an infeasible one).
+  if (!listed.empty()) {
+    const auto [lo, hi] = std::minmax_element(listed.begin(), listed.end());
+    const CaseOrbit at_lo(case_at(c, axis.key, *lo), o.periods);
+    const CaseOrbit at_hi(case_at(c, axis.key, *hi), o.periods);
+  }
   std::unique_ptr<OutputDirectory> out;
   if (o.out_dir) out = std::make_unique<OutputDirectory>(*o.out_dir, "response");
   ShootingOptions so = shooting_options(base.setup(), o.method);

@@ -458,8 +458,8 @@ OrbitResult newton_shooting(const OrbitProblem& problem, const OrbitPoint& guess
       res.history.push_back(rec);
       res.point = x;
       res.last = L;
-      res.message = "Newton shooting did not converge in " + std::to_string(options.max_iterations) +
-                    " iterations: residual reached " + format_significant(L.residual_norm, 3) +
+      res.message = "Newton shooting did not converge in " + counted(options.max_iterations, "iteration") +
+                    ": residual reached " + format_significant(L.residual_norm, 3) +
                     " (weighted by atol + rtol |y|; max |y(kT) - y(0)| = " +
                     format_significant(L.residual_max, 3) + "), last correction " +
                     format_significant(corr, 3);
@@ -555,10 +555,10 @@ OrbitResult find_orbit(const OrbitProblem& problem, const OrbitPoint& guess,
   r.f_evals = f_evals;
   r.transient_periods = total;
   if (!r.converged)
-    r.message = first + "; after " + std::to_string(total) + " periods of transient integration: " + r.message;
+    r.message = first + "; after " + counted(total, "period") + " of transient integration: " + r.message;
   else if (total > 0)
-    r.message = "Newton converged after " + std::to_string(total) +
-                " orbit periods of transient integration from the start (from the start itself: " +
+    r.message = "Newton converged after " + counted(total, "orbit period") +
+                " of transient integration from the start (from the start itself: " +
                 first + ")" + (r.message.empty() ? "" : "; " + r.message);
   return r;
 }

@@ -88,6 +88,21 @@ CaseOrbit::CaseOrbit(const sim::Case& c, int periods, std::string key)
   std::string msg;
   if (mech::resolve_constraints(*model, setup_.active, active_, msg) != mech::ModelIssue::none)
     throw InputError(w + ": " + msg);
+  // Every shooting integration runs over the orbit period kT on the case's step budget: a
+  // period the budget cannot cover (omega = 1e-9: kT = 6e9 s) is refused before any work.
+  {
+    std::string keys;
+    for (const auto& [name, value] : setup_.parameters) {
+      sim::ParameterValues p = setup_.parameters;
+      p[name] = value * (1 + 1e-6) + 1e-9;
+      if (!(c.model->period(p) == setup_.period)) keys += (keys.empty() ? "parameters." : ", parameters.") + name;
+    }
+    sim::check_step_budget(c, setup_, *model, periods_ * setup_.period,
+                           "the orbit period " + (periods_ == 1 ? std::string() : std::to_string(periods_) + " x ") +
+                               format_significant(setup_.period, 6) + " s" +
+                               (keys.empty() ? std::string() : " (set by " + keys + ")") +
+                               ", which every shooting integration covers");
+  }
   // The slow coordinates: held at their initial value, unless the active constraints already
   // fix them (e.g. a constraint added to hold one rigidly): holding it twice is singular.
   const int n = model->n();
@@ -144,6 +159,97 @@ CaseOrbit::CaseOrbit(const sim::Case& c, int periods, std::string key)
     for (std::size_t k = 0; k < slow_.size(); ++k)
       if (a[slow_[k]] != b[slow_[k]]) held_index_ = static_cast<int>(k);
   }
+  if (kind_ != KeyKind::none) check_key_moves_the_orbit();
+}
+
+// A varied key must be able to change the periodic orbit: the orbit of a periodic steady
+// state forgets its initial state (Newton finds the same orbit from any start), so an initial
+// value moves the response only as the held value of a slow coordinate or the constant of a
+// from_initial constraint; a parameter only if it enters the model's equations, outputs or
+// excitation period. A key that moves none of these would draw a flat curve: refused.
+void CaseOrbit::check_key_moves_the_orbit() const {
+  const double a = base_value_;
+  const double b = base_value_ != 0 ? base_value_ * (1 + 1e-3) + 1e-3 : 0.5;
+  bool moves = held_index_ >= 0;
+  // A model with a client (the sieve) may use a parameter in its verdicts only (the sieve's
+  // friction coefficient f in the rolling margin): the response's columns then move although
+  // the orbit does not, so its parameters are all accepted.
+  if (kind_ == KeyKind::parameter && case_.client) moves = true;
+  if (!moves) {
+    std::shared_ptr<const mech::Model> ma, mb;
+    try {
+      ma = model_at(a);
+      mb = model_at(b);
+    } catch (const InputError&) {
+      return;  // b outside the key's range: cannot tell, the continuation will say
+    }
+    const int n = ma->n();
+    const double p_a = case_.model->period(parameters_at(a)), p_b = case_.model->period(parameters_at(b));
+    moves = !(p_a == p_b);
+    const int s = static_cast<int>(ma->constraints().size());
+    std::vector<int> all(static_cast<std::size_t>(s));
+    for (int i = 0; i < s; ++i) all[static_cast<std::size_t>(i)] = i;
+    // Two states (the case's start and a generic one) at two times: every term the orbit is
+    // made of (M, h, Q, the constraint rows and positions, the outputs) compared.
+    for (int trial = 0; trial < 2 && !moves; ++trial) {
+      Eigen::VectorXd q = setup_.q0, qd = setup_.qd0;
+      const double t = trial == 0 ? 0.0 : 0.3 * (std::isfinite(p_a) ? p_a : 1.0);
+      if (trial == 1)
+        for (int i = 0; i < n; ++i) {
+          q[i] += 0.01 * (i + 1) * (1 + std::abs(q[i]));
+          qd[i] += 0.02 * (i + 2) * (1 + std::abs(qd[i]));
+        }
+      Eigen::MatrixXd Ma(n, n), Mb(n, n), ga(s, n), gb(s, n);
+      Eigen::VectorXd ha(n), hb(n), Qa(n), Qb(n), g0a(s), g0b(s), gaa(s), gab(s);
+      ma->kinetic_terms(t, q, qd, Ma, ha);
+      mb->kinetic_terms(t, q, qd, Mb, hb);
+      ma->forces(t, q, qd, Qa);
+      mb->forces(t, q, qd, Qb);
+      auto differ = [](const auto& x, const auto& y) {
+        for (Eigen::Index i = 0; i < x.size(); ++i)
+          if (!(x.data()[i] == y.data()[i]) && !(std::isnan(x.data()[i]) && std::isnan(y.data()[i])))
+            return true;
+        return false;
+      };
+      moves = differ(Ma, Mb) || differ(ha, hb) || differ(Qa, Qb);
+      if (!moves && s > 0) {
+        ma->constraint_rows(all, t, q, qd, ga, g0a, gaa);
+        mb->constraint_rows(all, t, q, qd, gb, g0b, gab);
+        moves = differ(ga, gb) || differ(g0a, g0b) || differ(gaa, gab);
+        for (int i = 0; i < s && !moves; ++i)
+          if (ma->constraints()[i].kind == mech::ConstraintKind::holonomic) {
+            const double ra = ma->position_residual(i, t, q), rb = mb->position_residual(i, t, q);
+            moves = !(ra == rb) && !(std::isnan(ra) && std::isnan(rb));
+          }
+      }
+      if (!moves && !ma->derived_names().empty()) {
+        const Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
+        Eigen::VectorXd oa(ma->derived_names().size()), ob(mb->derived_names().size());
+        ma->derived(t, q, qd, z, z, oa);
+        mb->derived(t, q, qd, z, z, ob);
+        moves = differ(oa, ob);
+      }
+    }
+  }
+  if (moves) return;
+  if (kind_ == KeyKind::held_value)
+    throw InputError(
+        "--vary " + key_ + ": an initial value cannot change a periodic steady state (Newton "
+        "finds the same orbit from any start, so the response would be a flat curve); pcsim "
+        "response varies initial.NAME only where it is the held value of a slow coordinate" +
+        std::string(c_slow_names().empty() ? " (the " + case_.model->origin() + " declares none)"
+                                           : " (" + c_slow_names() + ")") +
+        " or the constant of a from_initial constraint. Vary a model parameter "
+        "(parameters.NAME) instead");
+  throw InputError("--vary " + key_ + ": the parameter does not enter the " +
+                   case_.model->origin() + "'s equations, outputs or excitation period, so the "
+                   "periodic orbit cannot depend on it (the response would be a flat curve)");
+}
+
+std::string CaseOrbit::c_slow_names() const {
+  std::string out;
+  for (const auto& h : held_) out += (out.empty() ? "initial." : ", initial.") + h;
+  return out;
 }
 
 sim::ParameterValues CaseOrbit::parameters_at(double value) const {
@@ -343,11 +449,47 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
   so.max_iterations = options.max_iterations;
   so.newton_tol = options.newton_tol;
   so.max_transient_periods = options.max_transient_periods;
+  if (options.summary && out) {
+    // The period's time series (at least 200 rows per orbit period): its rows are bounded as
+    // pcsim run's are, before the shooting starts.
+    const double kT = options.periods * orbit.setup().period;
+    const double dt = std::min(orbit.setup().dt, kT / 200);
+    const double rows = std::floor(kT / dt) + 2;
+    if (!(rows <= sim::kMaxOutputRows))
+      throw InputError(where(c) + ": key 'output.dt': expected at most " +
+                       format_number(sim::kMaxOutputRows) + " time-series rows over the orbit "
+                       "period " + format_significant(kT, 6) + " s, got " +
+                       format_significant(rows, 3) + " rows; raise output.dt");
+  }
   const auto t_start = std::chrono::steady_clock::now();
   const OrbitResult r = find_orbit(orbit.problem(), orbit.guess(), so);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  if (!r.converged)
-    throw NumericalError("case '" + c.name + "': " + r.message, r.last.t_failed);
+  if (!r.converged) {
+    // What was computed is kept: the Newton iterations (their residuals and corrections) and
+    // the last iterate, in steady.json marked "complete": false with the reason. No period run:
+    // a state that is not periodic is not a steady state.
+    std::string kept;
+    if (out) {
+      try {
+        nlohmann::json j = orbit_json(orbit, r, nlohmann::json());
+        j["complete"] = false;
+        j["failure"] = {{"reason", r.message}, {"t", r.last.t_failed}};
+        j["shooting"]["method"] = to_string(options.method);
+        j["shooting"]["rtol"] = so.rtol;
+        j["shooting"]["atol"] = so.atol;
+        j["shooting"]["wall_seconds"] = wall;
+        out->write("steady.json", j.dump(2) + "\n");
+        out->commit();
+        kept = "; wrote the Newton iterations and the last iterate to " + options.out_dir->string() +
+               "/steady.json, marked \"complete\": false";
+      } catch (const IoError&) {
+        throw;
+      } catch (const std::exception&) {
+        // The record could not be assembled (e.g. no Floquet data): the failure is reported alone.
+      }
+    }
+    throw NumericalError("case '" + c.name + "': " + r.message + kept, r.last.t_failed);
+  }
   nlohmann::json summary;
   double wall_summary = 0;
   if (options.summary) {
@@ -356,6 +498,7 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
     wall_summary = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   }
   nlohmann::json j = orbit_json(orbit, r, summary);
+  j["complete"] = true;
   j["shooting"]["method"] = to_string(options.method);
   j["shooting"]["rtol"] = so.rtol;
   j["shooting"]["atol"] = so.atol;

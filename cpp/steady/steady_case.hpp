@@ -74,6 +74,10 @@ class CaseOrbit {
   enum class KeyKind { none, parameter, held_value } kind_ = KeyKind::none;
   std::string name_;     ///< the parameter's or coordinate's name
   int held_index_ = -1;  ///< the held coordinate's index in problem().slow
+  /// Throws pcsim::InputError if the varied key cannot change the periodic orbit (README,
+  /// "pcsim response": a flat curve is refused).
+  void check_key_moves_the_orbit() const;
+  std::string c_slow_names() const;
   double base_value_;
   std::vector<int> active_, slow_;
   std::vector<std::string> held_, fixed_slow_;

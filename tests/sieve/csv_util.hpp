@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -29,7 +30,10 @@ inline Csv read_csv(const std::filesystem::path& file) {
   while (std::getline(in, line)) {
     std::stringstream ls(line);
     std::vector<double> row;
-    while (std::getline(ls, cell, ',')) row.push_back(std::stod(cell));
+    // An empty field is a value not defined at that instant (pcsim writes no "nan" token).
+    while (std::getline(ls, cell, ','))
+      row.push_back(cell.empty() ? std::numeric_limits<double>::quiet_NaN() : std::stod(cell));
+    if (!line.empty() && line.back() == ',') row.push_back(std::numeric_limits<double>::quiet_NaN());
     c.rows.push_back(row);
   }
   return c;

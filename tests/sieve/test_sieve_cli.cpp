@@ -117,14 +117,26 @@ BOOST_AUTO_TEST_CASE(case_errors_exit_nonzero_with_one_line_and_write_nothing) {
   BOOST_TEST(has(r.out, "no_such_case.toml"));
 }
 
-BOOST_AUTO_TEST_CASE(numerical_failure_exits_3_and_writes_no_summary) {
+// Issue 19: a run that fails numerically (here its step budget, 10 steps where 18 are needed,
+// runs out) exits 3 and keeps what it computed, marked incomplete; an excitation so fast that
+// no step budget covers it (omega = 1e200) is refused before any work (exit 2), writing nothing.
+BOOST_AUTO_TEST_CASE(numerical_failure_exits_3_and_keeps_what_was_computed) {
   TempDir d;
   const Result r = sh("'" + exe() + "' run '" + kCase +
-                          "' --set solver.t_end=0.05 --set parameters.omega=1e200 --out res",
+                          "' --set solver.t_end=0.05 --set solver.max_steps=10 --out res",
                       d.path);
   BOOST_TEST(r.status == 3, r.out);
   BOOST_TEST(has(r.out, "pcsim: error:"));
-  BOOST_TEST(!fs::exists(d.path / "res" / "summary.json"));
+  BOOST_TEST(has(r.out, "step budget of 10 steps"), r.out);
+  BOOST_TEST_REQUIRE(fs::exists(d.path / "res" / "summary.json"));
+  BOOST_TEST(has(pcsim_test::read(d.path / "res" / "summary.json"), "\"complete\": false"));
+  BOOST_TEST(fs::exists(d.path / "res" / "timeseries.csv"));
+  const Result fast = sh("'" + exe() + "' run '" + kCase +
+                             "' --set solver.t_end=0.05 --set parameters.omega=1e200 --out fast",
+                         d.path);
+  BOOST_TEST(fast.status == 2, fast.out);
+  BOOST_TEST(has(fast.out, "solver.max_steps"), fast.out);
+  BOOST_TEST(!fs::exists(d.path / "fast"));
 }
 
 BOOST_AUTO_TEST_CASE(plot_writes_four_pngs_or_says_gnuplot_is_missing) {

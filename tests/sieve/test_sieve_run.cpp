@@ -223,18 +223,31 @@ BOOST_AUTO_TEST_CASE(cpp_form_runs_match_the_default_model_file_run) {
   }
 }
 
-// Output files appear completely or not at all: a run that fails numerically (ω so large
-// that ω² overflows: the forces are not finite) throws NumericalError and leaves the output
-// directory without summary.json, timeseries.csv or temporary files; a good run leaves exactly
-// the two files (and the marker that says the directory is pcsim run's).
-BOOST_AUTO_TEST_CASE(failed_run_writes_nothing_and_good_run_leaves_no_temporaries) {
+// Output files appear completely or not at all. A case no step budget can cover (ω = 1e200:
+// 2 steps per excitation period) is refused before any work and writes nothing. A run that fails
+// numerically (its step budget of 30 runs out) throws NumericalError and keeps exactly the two
+// files (and the owner marker .pcsim-output), summary.json marked "complete": false (issue 19), and no temporary file. A good run then
+// replaces them with exactly the two files.
+BOOST_AUTO_TEST_CASE(failed_run_keeps_its_files_and_good_run_leaves_no_temporaries) {
   TempDir dir;
   RunOptions o;
   o.out_dir = dir.path;
-  BOOST_CHECK_THROW(run_case(short_case({{"parameters.omega", "1e200"}}), o), NumericalError);
+  BOOST_CHECK_THROW(run_case(short_case({{"parameters.omega", "1e200"}}), o), InputError);
   BOOST_TEST(!fs::exists(dir.path / "summary.json"));
   BOOST_TEST(!fs::exists(dir.path / "timeseries.csv"));
   if (fs::exists(dir.path)) BOOST_TEST(fs::is_empty(dir.path));
+  BOOST_CHECK_THROW(run_case(short_case({{"solver.max_steps", "30"}}), o), NumericalError);
+  {
+    std::vector<std::string> kept;
+    for (const auto& e : fs::directory_iterator(dir.path)) kept.push_back(e.path().filename());
+    std::sort(kept.begin(), kept.end());
+    BOOST_TEST(kept == (std::vector<std::string>{".pcsim-output", "summary.json", "timeseries.csv"}),
+               boost::test_tools::per_element());
+    std::ifstream in(dir.path / "summary.json");
+    const json s = json::parse(in);
+    BOOST_TEST(s["complete"].get<bool>() == false);
+    BOOST_TEST(s["failure"]["t"].get<double>() > 0.0);
+  }
   run_case(short_case(), o);
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(dir.path)) names.push_back(e.path().filename());

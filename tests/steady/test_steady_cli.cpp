@@ -79,14 +79,21 @@ BOOST_AUTO_TEST_CASE(steady_writes_steady_json_and_one_period_of_the_time_series
   }
 }
 
-BOOST_AUTO_TEST_CASE(newton_failure_exits_3_with_the_residual_reached_and_writes_nothing) {
+// Issue 19: the Newton iterations computed are kept, in steady.json marked "complete": false.
+BOOST_AUTO_TEST_CASE(newton_failure_exits_3_with_the_residual_reached_and_keeps_the_iterations) {
   const auto dir = scratch("fail");
   const auto r = run_pcsim("steady " + kDuffing + " --set parameters.omega=1.8 --max-iterations 1 --transient-periods 0 --out '" +
                                (dir / "out").string() + "'",
                            dir);
   BOOST_TEST(r.status == 3, r.output);
-  BOOST_TEST(r.output.find("did not converge in 1 iterations: residual reached") != std::string::npos, r.output);
-  BOOST_TEST(!fs::exists(dir / "out" / "steady.json"));
+  BOOST_TEST(r.output.find("did not converge in 1 iteration: residual reached") != std::string::npos, r.output);
+  BOOST_TEST(r.output.find("1 iterations") == std::string::npos, r.output);
+  BOOST_TEST_REQUIRE(fs::exists(dir / "out" / "steady.json"));
+  std::ifstream in(dir / "out" / "steady.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  BOOST_TEST(j["complete"].get<bool>() == false);
+  BOOST_TEST(j["failure"]["reason"].get<std::string>().find("did not converge") != std::string::npos);
+  BOOST_TEST(j["newton"]["history"].size() >= 1u);
 }
 
 BOOST_AUTO_TEST_CASE(what_steady_and_response_cannot_do_is_refused_before_computing) {
