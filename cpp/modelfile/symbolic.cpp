@@ -9,7 +9,9 @@
 #include <functional>
 #include <map>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "modelfile/expression.hpp"
 
@@ -21,15 +23,202 @@ namespace {
 
 // ---- derivation ---------------------------------------------------------------------------
 
+std::string symbol_name(const ex& s) { return GiNaC::ex_to<GiNaC::symbol>(s).get_name(); }
+
+struct ExHash {
+  std::size_t operator()(const ex& e) const { return e.gethash(); }
+};
+
+// The derivation budget: symbolic operations (one per node differentiated, plus the products
+// a product's derivative forms) that derive() may spend on one model file. Chained
+// definitions share their subexpressions (a DAG), which the derivation below visits once per
+// node: 30 chained definitions cost a few hundred operations, the paper's sieve about
+// 2,500. The budget refuses, before minutes pass, a model file whose derivatives would be
+// enormous (see the README's limits table).
+constexpr std::size_t kDerivationBudget = 2'000'000;
+
+struct BudgetExceeded {};
+
+// Differentiation and symbol queries that visit each node of an expression DAG once.
+// GiNaC's own diff() and has() walk the expression as a tree: a definition used twice by
+// the next one (d_k = sin(d_{k-1}) + cos(d_{k-1})) doubles the walk per level, 2^30 visits
+// for 30 chained definitions. Here every node's derivative is memoized (per symbol), so the
+// derivatives share their subexpressions as the expressions do. The results are the same
+// expressions GiNaC's diff() gives (the same rules, GiNaC's own for functions), unexpanded.
+class Calculus {
+ public:
+  // A definition: the symbol `name` stands for `value` (in symbols(), diff() and inlined()).
+  void define(const ex& symbol, const ex& value) { defs_[symbol_name(symbol)] = value; }
+
+  // ∂e/∂s, s a symbol.
+  ex diff(const ex& e, const ex& s) {
+    auto& memo = memo_[symbol_name(s)];
+    return d(e, s, memo);
+  }
+
+  // The names of the symbols in e that are not definitions, through the definitions (each
+  // node visited once; each definition's symbols found once).
+  const std::unordered_set<std::string>& symbols(const ex& e) {
+    auto it = symbols_memo_.find(e);
+    if (it != symbols_memo_.end()) return it->second;
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {  // a definition: the symbols of its value
+      auto def = defs_.find(symbol_name(e));
+      std::unordered_set<std::string> names;
+      if (def == defs_.end()) names.insert(symbol_name(e));
+      else names = symbols(def->second);
+      return symbols_memo_.emplace(e, std::move(names)).first->second;
+    }
+    std::unordered_set<std::string> names;
+    // Visited nodes by value (an operand of a sum or product may be a temporary object whose
+    // address a later one reuses).
+    std::unordered_set<ex, ExHash, GiNaC::ex_is_equal> seen;
+    std::vector<ex> stack{e};
+    while (!stack.empty()) {
+      const ex x = stack.back();
+      stack.pop_back();
+      if (!seen.insert(x).second) continue;
+      if (GiNaC::is_a<GiNaC::symbol>(x)) {
+        const auto& inner = symbols(x);
+        names.insert(inner.begin(), inner.end());
+        continue;
+      }
+      for (std::size_t i = 0; i < x.nops(); ++i) stack.push_back(x.op(i));
+    }
+    return symbols_memo_.emplace(e, std::move(names)).first->second;
+  }
+
+  bool has(const ex& e, const ex& s) { return symbols(e).count(symbol_name(s)) != 0; }
+
+  // e with the definitions substituted (memoized; GiNaC evaluates the result as a tree).
+  ex inlined(const ex& e) {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      auto def = defs_.find(symbol_name(e));
+      if (def == defs_.end()) return e;
+      return inlined(def->second);
+    }
+    if (e.nops() == 0) return e;
+    auto it = inline_memo_.find(e);
+    if (it != inline_memo_.end()) return it->second;
+    struct Map : GiNaC::map_function {
+      Calculus* self;
+      explicit Map(Calculus* c) : self(c) {}
+      ex operator()(const ex& x) override { return self->inlined(x); }
+    } map(this);
+    const ex out = e.map(map);
+    inline_memo_.emplace(e, out);
+    return out;
+  }
+
+  std::size_t spent() const { return spent_; }
+
+ private:
+  using Memo = std::unordered_map<ex, ex, ExHash, GiNaC::ex_is_equal>;
+
+  void spend(std::size_t k) {
+    spent_ += k;
+    if (spent_ > kDerivationBudget) throw BudgetExceeded{};
+  }
+
+  ex d(const ex& e, const ex& s, Memo& memo) {
+    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) return 0;
+    auto it = memo.find(e);
+    if (it != memo.end()) return it->second;
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      if (e.is_equal(s)) return 1;
+      auto def = defs_.find(symbol_name(e));
+      if (def == defs_.end()) return 0;
+      const ex out = d(def->second, s, memo);  // the chain rule through a definition
+      memo.emplace(e, out);
+      return out;
+    }
+    spend(1);
+    ex out;
+    if (GiNaC::is_a<GiNaC::add>(e)) {
+      GiNaC::exvector terms;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const ex t = d(e.op(i), s, memo);
+        if (!t.is_zero()) terms.push_back(t);
+      }
+      out = terms.empty() ? ex(0) : ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms)));
+    } else if (GiNaC::is_a<GiNaC::mul>(e)) {
+      // Σ_i (Π_{j≠i} f_j) ∂f_i
+      const std::size_t k = e.nops();
+      GiNaC::exvector terms;
+      for (std::size_t i = 0; i < k; ++i) {
+        const ex di = d(e.op(i), s, memo);
+        if (di.is_zero()) continue;
+        spend(k);
+        GiNaC::exvector factors;
+        for (std::size_t j = 0; j < k; ++j) factors.push_back(j == i ? di : e.op(j));
+        terms.push_back(GiNaC::dynallocate<GiNaC::mul>(std::move(factors)));
+      }
+      out = terms.empty() ? ex(0) : ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms)));
+    } else if (GiNaC::is_a<GiNaC::power>(e)) {
+      const ex& b = e.op(0);
+      const ex& k = e.op(1);
+      const ex db = d(b, s, memo);
+      if (GiNaC::is_a<GiNaC::numeric>(k)) {
+        // k b^(k-1) ∂b: (x - x0)^n stays n (x - x0)^(n-1) (GiNaC's rule)
+        out = db.is_zero() ? ex(0) : GiNaC::pow(b, k - 1) * k * db;
+      } else {
+        const ex dk = d(k, s, memo);
+        // b^k (∂k log b + k ∂b / b)
+        out = e * (dk * GiNaC::log(b) + k * db * GiNaC::pow(b, -1));
+      }
+    } else if (GiNaC::is_a<GiNaC::function>(e)) {
+      // Σ_i ∂f/∂a_i (a) ∂a_i: GiNaC's partial derivative of f at symbols, at the arguments.
+      const GiNaC::function& f = GiNaC::ex_to<GiNaC::function>(e);
+      GiNaC::exvector terms;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const ex da = d(e.op(i), s, memo);
+        if (da.is_zero()) continue;
+        GiNaC::exmap at;
+        for (std::size_t j = 0; j < e.nops(); ++j) at[argument(j)] = e.op(j);
+        terms.push_back(partial(f.get_serial(), e.nops(), i).subs(at, GiNaC::subs_options::no_pattern) * da);
+      }
+      out = terms.empty() ? ex(0) : ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms)));
+    } else {
+      out = e.diff(GiNaC::ex_to<GiNaC::symbol>(s));  // no other kind occurs in a model file
+    }
+    memo.emplace(e, out);
+    return out;
+  }
+
+  // The symbol standing for argument i of a function in partial().
+  static const ex& argument(std::size_t i) {
+    static std::vector<ex> args;
+    while (args.size() <= i) args.push_back(GiNaC::realsymbol("pcsim_arg" + std::to_string(args.size())));
+    return args[i];
+  }
+
+  // ∂f/∂a_i of the function with this serial at the argument symbols.
+  const ex& partial(unsigned serial, std::size_t nargs, std::size_t i) {
+    const auto key = std::make_tuple(serial, nargs, i);
+    auto it = partials_.find(key);
+    if (it != partials_.end()) return it->second;
+    GiNaC::exvector args;
+    for (std::size_t j = 0; j < nargs; ++j) args.push_back(argument(j));
+    const ex f = GiNaC::function(serial, args);
+    return partials_.emplace(key, f.diff(GiNaC::ex_to<GiNaC::symbol>(argument(i)))).first->second;
+  }
+
+  std::unordered_map<std::string, ex> defs_;
+  std::map<std::string, Memo> memo_;
+  Memo inline_memo_;
+  std::unordered_map<ex, std::unordered_set<std::string>, ExHash, GiNaC::ex_is_equal> symbols_memo_;
+  std::map<std::tuple<unsigned, std::size_t, std::size_t>, ex> partials_;
+  std::size_t spent_ = 0;
+};
+
 // The first symbol of `symbols` that e depends on, or -1.
-int first_used(const ex& e, const std::vector<ex>& symbols) {
+int first_used(Calculus& calc, const ex& e, const std::vector<ex>& symbols) {
+  const auto& names = calc.symbols(e);
   for (std::size_t i = 0; i < symbols.size(); ++i) {
-    if (e.has(symbols[i])) return static_cast<int>(i);
+    if (names.count(symbol_name(symbols[i]))) return static_cast<int>(i);
   }
   return -1;
 }
 
-std::string symbol_name(const ex& s) { return GiNaC::ex_to<GiNaC::symbol>(s).get_name(); }
 
 // Definitions in an order where each comes after the ones it uses; a cycle is an error.
 std::vector<std::size_t> definition_order(const ModelSource& src) {
@@ -65,18 +254,17 @@ std::vector<std::size_t> definition_order(const ModelSource& src) {
 }
 
 // γ of a row w = g q̇ + g0 (q̇ held fixed): Σ_l ∂w/∂q_l q̇_l + ∂w/∂t.
-ex along_motion(const ex& w, const SymbolicModel& m) {
-  ex out = w.diff(GiNaC::ex_to<GiNaC::symbol>(m.t));
-  for (int l = 0; l < m.n; ++l) out += w.diff(GiNaC::ex_to<GiNaC::symbol>(m.q[l])) * m.qd[l];
+ex along_motion(Calculus& calc, const ex& w, const SymbolicModel& m) {
+  ex out = calc.diff(w, m.t);
+  for (int l = 0; l < m.n; ++l) out += calc.diff(w, m.q[l]) * m.qd[l];
   return out;
 }
-
-const GiNaC::symbol& sym(const ex& e) { return GiNaC::ex_to<GiNaC::symbol>(e); }
 
 }  // namespace
 
 SymbolicModel derive(const ModelSource& src) {
   SymbolicModel m;
+  Calculus calc;
   const int n = static_cast<int>(src.coordinates.size());
   m.n = n;
   ExpressionParser base;
@@ -114,17 +302,21 @@ SymbolicModel derive(const ModelSource& src) {
   for (std::size_t i : definition_order(src)) {
     const auto& [name, text] = src.definitions[i];
     const ex value = out.parse(text);
-    out.define(name, value);
-    if (first_used(value, m.R) >= 0 || first_used(value, m.qdd) >= 0) {
+    // The definition stays a symbol (evaluated once on the tape, as written).
+    const ex symbol = GiNaC::realsymbol(name);
+    m.definitions.emplace_back(symbol, value);
+    calc.define(symbol, value);
+    out.define(name, symbol);
+    if (first_used(calc, value, m.R) >= 0 || first_used(calc, value, m.qdd) >= 0) {
       base.add_hint({name, "", "the definition '" + name + "' uses reactions or accelerations, "
                                "so only [" + outputs_key + "] may use it", true});
     } else {
-      base.define(name, value);
+      base.define(name, symbol);
     }
   }
 
   auto no_velocities = [&](const ex& e, const ExprText& text, const std::string& what) {
-    const int k = first_used(e, m.qd);
+    const int k = first_used(calc, e, m.qd);
     if (k >= 0) {
       fail(text.where, text.key, what + " may not depend on the velocities (it uses " +
                                      symbol_name(m.qd[k]) + ")");
@@ -143,13 +335,25 @@ SymbolicModel derive(const ModelSource& src) {
   m.M.assign(n, std::vector<ex>(n, ex(0)));
   m.h.assign(n, ex(0));
   m.Q.assign(n, ex(0));
-  for (int j = 0; j < n; ++j) {
-    const ex p = m.T.diff(sym(m.qd[j]));
+  // The derivatives keep the user's structure (no expansion): the tape evaluates them so.
+  // A derivation past the budget is an input error of the expression being derived.
+  auto within_budget = [&](const ExprText& where, const std::function<void()>& work) {
+    try {
+      work();
+    } catch (const BudgetExceeded&) {
+      fail(where.where, where.key,
+           "deriving the model needs more than the derivation budget of " +
+               std::to_string(kDerivationBudget) + " symbolic operations (the derivatives of \"" +
+               where.text + "\" grow too large; use fewer or simpler chained definitions)");
+    }
+  };
+  for (int j = 0; j < n; ++j) within_budget(src.kinetic, [&] {
+    const ex p = calc.diff(m.T, m.qd[j]);
     for (int k = j; k < n; ++k) {
-      const ex Mjk = p.diff(sym(m.qd[k]));
+      const ex Mjk = calc.diff(p, m.qd[k]);
       for (int l = 0; l < n; ++l) {
-        if (!Mjk.has(m.qd[l])) continue;
-        if (!Mjk.diff(sym(m.qd[l])).expand().is_zero()) {
+        if (!calc.has(Mjk, m.qd[l])) continue;
+        if (!calc.inlined(calc.diff(Mjk, m.qd[l])).expand().is_zero()) {
           fail(src.kinetic.where, src.kinetic.key,
                "the kinetic energy T must be quadratic in the velocities (M = d2T/dqd2 "
                "independent of them), but d2T/(d" + symbol_name(m.qd[j]) + " d" +
@@ -158,8 +362,13 @@ SymbolicModel derive(const ModelSource& src) {
       }
       m.M[j][k] = m.M[k][j] = Mjk;
     }
-    m.h[j] = along_motion(p, m) - m.T.diff(sym(m.q[j]));
-    m.Q[j] = -m.V.diff(sym(m.q[j])) - m.F.diff(sym(m.qd[j])) + applied[j];
+    m.h[j] = along_motion(calc, p, m) - calc.diff(m.T, m.q[j]);
+  });
+  for (int j = 0; j < n; ++j) {
+    ex dV, dF;
+    within_budget(src.potential, [&] { dV = calc.diff(m.V, m.q[j]); });
+    within_budget(src.dissipation, [&] { dF = calc.diff(m.F, m.qd[j]); });
+    m.Q[j] = -dV - dF + applied[j];
   }
 
   // Constraints: rows g, g0 and γ = d/dt(g q̇ + g0) − g q̈.
@@ -169,7 +378,7 @@ SymbolicModel derive(const ModelSource& src) {
     if (sc.spec.kind == mech::ConstraintKind::holonomic) {
       const ex phi = base.parse(sc.holonomic);
       no_velocities(phi, sc.holonomic, "a holonomic constraint Phi(q, t)");
-      if (first_used(phi, m.q) < 0) {
+      if (first_used(calc, phi, m.q) < 0) {
         fail(sc.holonomic.where, sc.holonomic.key,
              "the constraint '" + sc.spec.name + "' involves no coordinate (\"" +
                  sc.holonomic.text + "\")");
@@ -181,8 +390,10 @@ SymbolicModel derive(const ModelSource& src) {
         m.hidden.push_back(GiNaC::realsymbol("Phi0_" + sc.spec.name));
         c.phi = phi - m.hidden.back();
       }
-      for (int k = 0; k < n; ++k) c.g.push_back(phi.diff(sym(m.q[k])));
-      c.g0 = phi.diff(sym(m.t));
+      within_budget(sc.holonomic, [&] {
+        for (int k = 0; k < n; ++k) c.g.push_back(calc.diff(phi, m.q[k]));
+        c.g0 = calc.diff(phi, m.t);
+      });
     } else {
       c.holonomic = false;
       c.phi = 0;
@@ -203,16 +414,17 @@ SymbolicModel derive(const ModelSource& src) {
     }
     w = c.g0;
     for (int k = 0; k < n; ++k) w += c.g[k] * m.qd[k];
-    c.gamma = along_motion(w, m);
+    within_budget(sc.holonomic.text.empty() ? ExprText{src.where, sc.key, ""} : sc.holonomic,
+                  [&] { c.gamma = along_motion(calc, w, m); });
     c.constant_row = true;
     for (int k = 0; k < n; ++k) {
-      c.constant_row = c.constant_row && first_used(c.g[k], m.q) < 0 && !c.g[k].has(m.t);
+      c.constant_row = c.constant_row && first_used(calc, c.g[k], m.q) < 0 && !calc.has(c.g[k], m.t);
     }
     // Contact attributes: numbers of the parameters only (evaluated once per instantiate()).
     auto parameter_only = [&](const ExprText& e, const char* what) -> std::optional<ex> {
       if (e.text.empty()) return std::nullopt;
       const ex v = base.parse(e);
-      if (first_used(v, m.q) >= 0 || first_used(v, m.qd) >= 0 || v.has(m.t))
+      if (first_used(calc, v, m.q) >= 0 || first_used(calc, v, m.qd) >= 0 || calc.has(v, m.t))
         fail(e.where, e.key, std::string(what) + " must be an expression of the parameters only (\"" +
                                  e.text + "\")");
       return v;
@@ -227,7 +439,8 @@ SymbolicModel derive(const ModelSource& src) {
 
   if (src.period) {
     const ex period = base.parse(*src.period);
-    if (first_used(period, m.q) >= 0 || first_used(period, m.qd) >= 0 || period.has(m.t)) {
+    if (first_used(calc, period, m.q) >= 0 || first_used(calc, period, m.qd) >= 0 ||
+        calc.has(period, m.t)) {
       fail(src.period->where, src.period->key,
            "the period must be an expression of the parameters only (\"" + src.period->text +
                "\")");
@@ -237,13 +450,15 @@ SymbolicModel derive(const ModelSource& src) {
   return m;
 }
 
+ex inline_definitions(const SymbolicModel& model, const ex& e) {
+  Calculus calc;
+  for (const auto& [symbol, value] : model.definitions) calc.define(symbol, value);
+  return calc.inlined(e);
+}
+
 // ---- compilation into a tape ---------------------------------------------------------------
 
 namespace {
-
-struct ExHash {
-  std::size_t operator()(const ex& e) const { return e.gethash(); }
-};
 
 struct NodeKey {
   Op op;
@@ -273,6 +488,7 @@ class TapeBuilder {
   std::vector<Node> nodes;
 
   explicit TapeBuilder(const SymbolicModel& m) {
+    for (const auto& [symbol, value] : m.definitions) definitions_[symbol_name(symbol)] = value;
     zero = literal(0.0);
     one = literal(1.0);
     // Inputs in slot order: t, q, qd, qdd, R.
@@ -349,10 +565,12 @@ class TapeBuilder {
   // A hash of e's structure made of names and numbers only. GiNaC orders the terms of sums and
   // the factors of products by hashes seeded with symbol serial numbers (which depend on how
   // many symbols the process made before) and type-name addresses (which change with address
-  // space randomization), so its order, and the shape of unexpanded expressions, differ from
-  // process to process. The tape compiles expanded expressions (a canonical form) in the order
-  // of this hash instead: the same file gives the same tape, and bit-identical results, in
-  // every process and on every load.
+  // space randomization), so its order differs from process to process (the expressions
+  // themselves, as sets of operands, do not). The tape takes the operands of every sum and
+  // product in the order of this hash instead: the same file gives the same tape, and
+  // bit-identical results, in every process and on every load. The expressions are compiled
+  // as the user wrote them and as differentiation made them, never expanded: expanding
+  // (x - 1000)^3 into x^3 - 3000 x^2 + ... would cancel catastrophically.
   std::uint64_t shash(const ex& e) {
     auto it = shash_memo_.find(e);
     if (it != shash_memo_.end()) return it->second;
@@ -409,6 +627,7 @@ class TapeBuilder {
 
  private:
   std::unordered_map<ex, std::uint32_t, ExHash, GiNaC::ex_is_equal> memo;
+  std::unordered_map<std::string, ex> definitions_;
   std::unordered_map<NodeKey, std::uint32_t, NodeKeyHash> dedupe_;
   std::unordered_map<ex, std::uint64_t, ExHash, GiNaC::ex_is_equal> shash_memo_;
   std::unordered_map<std::uint64_t, std::uint32_t> literals_;
@@ -453,6 +672,31 @@ class TapeBuilder {
     return op(Op::pow, base, compile(exponent));
   }
 
+  // The largest positive rational c such that every coefficient of the sum e is an integer
+  // multiple of c (gcd of the numerators over lcm of the denominators), or 1 if a coefficient
+  // is not rational.
+  static GiNaC::numeric rational_content(const ex& e) {
+    GiNaC::numeric g = 0, l = 1;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const ex t = e.op(i);
+      GiNaC::numeric c = 1;
+      if (GiNaC::is_a<GiNaC::numeric>(t)) {
+        c = GiNaC::ex_to<GiNaC::numeric>(t);
+      } else if (GiNaC::is_a<GiNaC::mul>(t)) {
+        for (std::size_t j = 0; j < t.nops(); ++j) {
+          if (GiNaC::is_a<GiNaC::numeric>(t.op(j))) c *= GiNaC::ex_to<GiNaC::numeric>(t.op(j));
+        }
+      }
+      if (!c.is_rational() || c.is_zero()) return 1;
+      g = GiNaC::gcd(g, c.numer());
+      l = GiNaC::lcm(l, c.denom());
+    }
+    if (g.is_zero()) return 1;
+    const double v = (g / l).to_double();
+    if (!(v >= 1e-300 && v <= 1e300)) return 1;  // a factor that is not a normal double
+    return g / l;
+  }
+
   std::uint32_t compile_new(const ex& e) {
     if (GiNaC::is_a<GiNaC::numeric>(e)) return literal(number(e));
     if (GiNaC::is_a<GiNaC::constant>(e)) {
@@ -460,9 +704,19 @@ class TapeBuilder {
       throw std::runtime_error(std::string("the constant ") + GiNaC::ex_to<GiNaC::basic>(e).class_name());
     }
     if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      auto def = definitions_.find(symbol_name(e));
+      if (def != definitions_.end()) return compile(def->second);  // once per definition
       throw std::runtime_error("the unknown symbol " + symbol_name(e));
     }
     if (GiNaC::is_a<GiNaC::add>(e)) {
+      // GiNaC distributes a number over a sum (3*(x - 1000) becomes 3*x - 3000, which loses
+      // the digits of x - 1000): a common rational factor of the terms is taken out again,
+      // exactly (3*(x - 1000)).
+      const GiNaC::numeric c = rational_content(e);
+      if (!c.is_equal(1)) {
+        const std::uint32_t inner = compile(e / c);
+        return op(Op::mul, literal(c.to_double()), inner);
+      }
       std::vector<Monomial> terms;
       for (const ex& op : sorted_operands(e)) terms.push_back(monomial(op));
       return finish(sum(std::move(terms)));
@@ -687,7 +941,7 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
   TapeBuilder b(m);
   auto compile = [&](const ex& e, const ExprText& where) {
     try {
-      return b.compile(e.expand());
+      return b.compile(e);
     } catch (const std::runtime_error& err) {
       fail(where.where, where.key, std::string("cannot evaluate ") + err.what() +
                                        " (from \"" + where.text + "\")");
