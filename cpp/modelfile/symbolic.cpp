@@ -39,6 +39,54 @@ constexpr std::size_t kDerivationBudget = 2'000'000;
 
 struct BudgetExceeded {};
 
+unsigned group_serial_init();
+unsigned group_serial() {
+  static const unsigned serial = group_serial_init();
+  return serial;
+}
+
+// group(s): s itself, kept apart. GiNaC distributes a number over a sum it multiplies
+// (4*(x - a) becomes 4x - 4a, and then melts into the sum around it: 4x - 4a + y), which
+// turns the exact difference x - a of the user's expression into a cancellation. The
+// derivation wraps a sum that would be so multiplied (the power rule's n (x - a)^(n-1) with
+// n = 2, a product rule's remaining factor); the tape evaluates group(s) as s.
+ex group_eval(const ex& a) {
+  if (!GiNaC::is_a<GiNaC::add>(a)) return a;
+  return GiNaC::function(group_serial(), a).hold();
+}
+ex group_evalf(const ex& a) { return a.evalf(); }
+ex group_conjugate(const ex& a) { return GiNaC::function(group_serial(), a.conjugate()); }
+ex group_derivative(const ex&, unsigned) { return 1; }
+unsigned group_serial_init() {
+  return GiNaC::function::register_new(GiNaC::function_options("pcsim_group", 1)
+                                           .eval_func(group_eval)
+                                           .evalf_func(group_evalf)
+                                           .conjugate_func(group_conjugate)
+                                           .derivative_func(group_derivative));
+}
+bool is_group(const ex& e) {
+  return GiNaC::is_a<GiNaC::function>(e) &&
+         GiNaC::ex_to<GiNaC::function>(e).get_serial() == group_serial();
+}
+ex unwrap(const ex& e) { return is_group(e) ? e.op(0) : e; }
+
+// The product of factors, a sum among them grouped when it would be the only non-numeric
+// factor (GiNaC would distribute the number over it).
+ex product_of(GiNaC::exvector factors) {
+  int symbolic = 0;
+  std::size_t last = 0;
+  for (std::size_t i = 0; i < factors.size(); ++i) {
+    if (!GiNaC::is_a<GiNaC::numeric>(factors[i])) {
+      ++symbolic;
+      last = i;
+    }
+  }
+  if (symbolic == 1 && GiNaC::is_a<GiNaC::add>(factors[last])) {
+    factors[last] = GiNaC::function(group_serial(), factors[last]);
+  }
+  return GiNaC::dynallocate<GiNaC::mul>(std::move(factors));
+}
+
 // Differentiation and symbol queries that visit each node of an expression DAG once.
 // GiNaC's own diff() and has() walk the expression as a tree: a definition used twice by
 // the next one (d_k = sin(d_{k-1}) + cos(d_{k-1})) doubles the walk per level, 2^30 visits
@@ -56,33 +104,21 @@ class Calculus {
     return d(e, s, memo);
   }
 
-  // The names of the symbols in e that are not definitions, through the definitions (each
-  // node visited once; each definition's symbols found once).
+  // The names of the symbols in e that are not definitions, through the definitions: the
+  // union of its operands' (each node's set found once).
   const std::unordered_set<std::string>& symbols(const ex& e) {
     auto it = symbols_memo_.find(e);
     if (it != symbols_memo_.end()) return it->second;
-    if (GiNaC::is_a<GiNaC::symbol>(e)) {  // a definition: the symbols of its value
+    std::unordered_set<std::string> names;
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
       auto def = defs_.find(symbol_name(e));
-      std::unordered_set<std::string> names;
       if (def == defs_.end()) names.insert(symbol_name(e));
       else names = symbols(def->second);
-      return symbols_memo_.emplace(e, std::move(names)).first->second;
-    }
-    std::unordered_set<std::string> names;
-    // Visited nodes by value (an operand of a sum or product may be a temporary object whose
-    // address a later one reuses).
-    std::unordered_set<ex, ExHash, GiNaC::ex_is_equal> seen;
-    std::vector<ex> stack{e};
-    while (!stack.empty()) {
-      const ex x = stack.back();
-      stack.pop_back();
-      if (!seen.insert(x).second) continue;
-      if (GiNaC::is_a<GiNaC::symbol>(x)) {
-        const auto& inner = symbols(x);
+    } else {
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const auto& inner = symbols(e.op(i));
         names.insert(inner.begin(), inner.end());
-        continue;
       }
-      for (std::size_t i = 0; i < x.nops(); ++i) stack.push_back(x.op(i));
     }
     return symbols_memo_.emplace(e, std::move(names)).first->second;
   }
@@ -97,6 +133,7 @@ class Calculus {
       return inlined(def->second);
     }
     if (e.nops() == 0) return e;
+    if (is_group(e)) return inlined(e.op(0));
     auto it = inline_memo_.find(e);
     if (it != inline_memo_.end()) return it->second;
     struct Map : GiNaC::map_function {
@@ -131,6 +168,10 @@ class Calculus {
       memo.emplace(e, out);
       return out;
     }
+    if (!has(e, s)) {  // constant in s: no work, nothing spent
+      memo.emplace(e, 0);
+      return 0;
+    }
     spend(1);
     ex out;
     if (GiNaC::is_a<GiNaC::add>(e)) {
@@ -150,7 +191,7 @@ class Calculus {
         spend(k);
         GiNaC::exvector factors;
         for (std::size_t j = 0; j < k; ++j) factors.push_back(j == i ? di : e.op(j));
-        terms.push_back(GiNaC::dynallocate<GiNaC::mul>(std::move(factors)));
+        terms.push_back(product_of(std::move(factors)));
       }
       out = terms.empty() ? ex(0) : ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms)));
     } else if (GiNaC::is_a<GiNaC::power>(e)) {
@@ -159,7 +200,7 @@ class Calculus {
       const ex db = d(b, s, memo);
       if (GiNaC::is_a<GiNaC::numeric>(k)) {
         // k b^(k-1) ∂b: (x - x0)^n stays n (x - x0)^(n-1) (GiNaC's rule)
-        out = db.is_zero() ? ex(0) : GiNaC::pow(b, k - 1) * k * db;
+        out = db.is_zero() ? ex(0) : product_of({GiNaC::pow(b, k - 1), k, db});
       } else {
         const ex dk = d(k, s, memo);
         // b^k (∂k log b + k ∂b / b)
@@ -174,7 +215,8 @@ class Calculus {
         if (da.is_zero()) continue;
         GiNaC::exmap at;
         for (std::size_t j = 0; j < e.nops(); ++j) at[argument(j)] = e.op(j);
-        terms.push_back(partial(f.get_serial(), e.nops(), i).subs(at, GiNaC::subs_options::no_pattern) * da);
+        terms.push_back(
+            product_of({partial(f.get_serial(), e.nops(), i).subs(at, GiNaC::subs_options::no_pattern), da}));
       }
       out = terms.empty() ? ex(0) : ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms)));
     } else {
@@ -571,38 +613,104 @@ class TapeBuilder {
   // bit-identical results, in every process and on every load. The expressions are compiled
   // as the user wrote them and as differentiation made them, never expanded: expanding
   // (x - 1000)^3 into x^3 - 3000 x^2 + ... would cancel catastrophically.
+  static std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
+    return (h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2))) * 0xff51afd7ed558ccdull;
+  }
+  static std::uint64_t number_hash(const GiNaC::numeric& n) {
+    const double v = n.to_double();
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    return mix(1, bits);
+  }
+
+  // shash is also blind to where GiNaC put a number or a sign: a sum hashes as its primitive
+  // form (see primitive()) and its factor c, a product as its number (including the factors
+  // of its sums) and its primitive factors. So -(a - b)*c and (b - a)*c hash alike (and
+  // compile alike).
   std::uint64_t shash(const ex& e) {
     auto it = shash_memo_.find(e);
     if (it != shash_memo_.end()) return it->second;
-    auto mix = [](std::uint64_t h, std::uint64_t v) {
-      return (h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2))) * 0xff51afd7ed558ccdull;
-    };
     std::uint64_t h = 0;
     if (GiNaC::is_a<GiNaC::numeric>(e)) {
-      const double v = GiNaC::ex_to<GiNaC::numeric>(e).to_double();
-      std::uint64_t bits;
-      std::memcpy(&bits, &v, sizeof bits);
-      h = mix(1, bits);
+      h = number_hash(GiNaC::ex_to<GiNaC::numeric>(e));
     } else if (GiNaC::is_a<GiNaC::symbol>(e)) {
       h = mix(2, std::hash<std::string>()(symbol_name(e)));
     } else if (GiNaC::is_a<GiNaC::constant>(e)) {
       h = mix(3, e.is_equal(GiNaC::Pi) ? 1u : 2u);  // only pi is allowed
+    } else if (is_group(e)) {
+      h = shash(e.op(0));
+    } else if (GiNaC::is_a<GiNaC::add>(e)) {
+      const auto& [c, s] = primitive(e);
+      h = mix(sum_hash(s), number_hash(c));
+    } else if (GiNaC::is_a<GiNaC::mul>(e) || is_integer_power(e)) {
+      GiNaC::numeric c = 1;
+      std::vector<std::uint64_t> factors;
+      auto factor = [&](const ex& f) {
+        if (GiNaC::is_a<GiNaC::numeric>(f)) {
+          c *= GiNaC::ex_to<GiNaC::numeric>(f);
+        } else {
+          factors.push_back(factor_key(f, &c));
+        }
+      };
+      if (GiNaC::is_a<GiNaC::mul>(e)) {
+        for (std::size_t i = 0; i < e.nops(); ++i) factor(e.op(i));
+      } else {
+        factor(e);
+      }
+      std::sort(factors.begin(), factors.end());
+      h = 6;
+      for (std::uint64_t f : factors) h = mix(h, f);
+      h = mix(h, number_hash(c));
     } else {
       std::vector<std::uint64_t> children;
       for (std::size_t i = 0; i < e.nops(); ++i) children.push_back(shash(e.op(i)));
       std::uint64_t tag = 4;
-      if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
-        std::sort(children.begin(), children.end());  // commutative
-        tag = GiNaC::is_a<GiNaC::add>(e) ? 5 : 6;
-      } else if (GiNaC::is_a<GiNaC::power>(e)) {
+      if (GiNaC::is_a<GiNaC::power>(e)) {
         tag = 7;
       } else if (GiNaC::is_a<GiNaC::function>(e)) {
         tag = mix(8, std::hash<std::string>()(GiNaC::ex_to<GiNaC::function>(e).get_name()));
       }
       h = tag;
-      for (std::uint64_t c : children) h = mix(h, c);
+      for (std::uint64_t ch : children) h = mix(h, ch);
     }
     shash_memo_.emplace(e, h);
+    return h;
+  }
+
+  static bool is_integer_power(const ex& e) {
+    if (!GiNaC::is_a<GiNaC::power>(e) || !GiNaC::is_a<GiNaC::numeric>(e.op(1))) return false;
+    const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(e.op(1));
+    return k.is_integer() && GiNaC::abs(k) < 1000;
+  }
+
+  // The hash of a non-numeric factor of a product without its number: a sum or an integer
+  // power of a sum as its primitive form (the number, c^k, multiplies *c if c is given).
+  std::uint64_t factor_key(const ex& f, GiNaC::numeric* c) {
+    ex base = f;
+    GiNaC::numeric k = 1;
+    if (is_integer_power(f)) {
+      base = f.op(0);
+      k = GiNaC::ex_to<GiNaC::numeric>(f.op(1));
+    }
+    std::uint64_t b;
+    base = unwrap(base);
+    if (GiNaC::is_a<GiNaC::add>(base)) {
+      const auto& [cb, s] = primitive(base);
+      if (c) *c *= cb.power(k);
+      b = sum_hash(s);
+    } else {
+      b = shash(base);
+    }
+    return mix(mix(7, b), number_hash(k));
+  }
+
+  // The hash of a sum from its terms (in any order).
+  std::uint64_t sum_hash(const ex& s) {
+    std::vector<std::uint64_t> terms;
+    for (std::size_t i = 0; i < s.nops(); ++i) terms.push_back(shash(s.op(i)));
+    std::sort(terms.begin(), terms.end());
+    std::uint64_t h = 5;
+    for (std::uint64_t t : terms) h = mix(h, t);
     return h;
   }
 
@@ -630,6 +738,7 @@ class TapeBuilder {
   std::unordered_map<std::string, ex> definitions_;
   std::unordered_map<NodeKey, std::uint32_t, NodeKeyHash> dedupe_;
   std::unordered_map<ex, std::uint64_t, ExHash, GiNaC::ex_is_equal> shash_memo_;
+  std::unordered_map<ex, std::pair<GiNaC::numeric, ex>, ExHash, GiNaC::ex_is_equal> primitive_memo_;
   std::unordered_map<std::uint64_t, std::uint32_t> literals_;
 
   std::uint32_t add_node(const Node& node) {
@@ -672,6 +781,30 @@ class TapeBuilder {
     return op(Op::pow, base, compile(exponent));
   }
 
+  // A sum as c * s with c a rational number and s primitive: its coefficients integers without
+  // a common factor (when they are rational), its sign fixed by shash (s or -s, whichever
+  // hashes lower). Two reasons: GiNaC distributes a number over a sum (3*(x - 1000) becomes
+  // 3*x - 3000, which loses the digits of x - 1000; here it is 3*(x - 1000) again, exactly),
+  // and where the number and the sign of a product land depends on the order in which GiNaC
+  // formed it (-(a - b)*c or (b - a)*c), which differs between processes; the primitive form
+  // is the same in all.
+  const std::pair<GiNaC::numeric, ex>& primitive(const ex& e) {
+    auto it = primitive_memo_.find(e);
+    if (it != primitive_memo_.end()) return it->second;
+    GiNaC::numeric c = rational_content(e);
+    ex s = c.is_equal(1) ? e : e / c;
+    if (!GiNaC::is_a<GiNaC::add>(s)) {
+      c = 1;
+      s = e;
+    }
+    const ex negated = -s;
+    if (GiNaC::is_a<GiNaC::add>(negated) && sum_hash(negated) < sum_hash(s)) {
+      c = -c;
+      s = negated;
+    }
+    return primitive_memo_.emplace(e, std::make_pair(c, s)).first->second;
+  }
+
   // The largest positive rational c such that every coefficient of the sum e is an integer
   // multiple of c (gcd of the numerators over lcm of the denominators), or 1 if a coefficient
   // is not rational.
@@ -709,25 +842,25 @@ class TapeBuilder {
       throw std::runtime_error("the unknown symbol " + symbol_name(e));
     }
     if (GiNaC::is_a<GiNaC::add>(e)) {
-      // GiNaC distributes a number over a sum (3*(x - 1000) becomes 3*x - 3000, which loses
-      // the digits of x - 1000): a common rational factor of the terms is taken out again,
-      // exactly (3*(x - 1000)).
-      const GiNaC::numeric c = rational_content(e);
+      const auto& [c, primitive_sum] = primitive(e);
       if (!c.is_equal(1)) {
-        const std::uint32_t inner = compile(e / c);
-        return op(Op::mul, literal(c.to_double()), inner);
+        const std::uint32_t inner = compile(primitive_sum);
+        const double m = std::abs(c.to_double());
+        return finish(Signed{c.is_negative(), m == 1.0 ? inner : op(Op::mul, literal(m), inner)});
       }
       std::vector<Monomial> terms;
       for (const ex& op : sorted_operands(e)) terms.push_back(monomial(op));
       return finish(sum(std::move(terms)));
     }
     if (GiNaC::is_a<GiNaC::mul>(e)) return finish(sum({monomial(e)}));
+    if (is_integer_power(e)) return finish(sum({monomial(e)}));  // as in a product
     if (GiNaC::is_a<GiNaC::power>(e)) return power(e.op(0), e.op(1));
     if (GiNaC::is_a<GiNaC::function>(e)) {
       const GiNaC::function& f = GiNaC::ex_to<GiNaC::function>(e);
       const std::string name = f.get_name();
       const unsigned serial = f.get_serial();
       auto arg = [&](std::size_t i) { return compile(e.op(i)); };
+      if (serial == group_serial()) return arg(0);
       if (serial == min_serial()) return op(Op::min, arg(0), arg(1));
       if (serial == max_serial()) return op(Op::max, arg(0), arg(1));
       if (serial == heaviside_serial()) return op(Op::step, arg(0));
@@ -762,17 +895,30 @@ class TapeBuilder {
 
   Monomial monomial(const ex& e) {
     Monomial m;
-    double c = 1.0;
+    GiNaC::numeric c = 1;  // exact: the same number whatever the order of the factors
     std::vector<std::uint32_t> knum, kden;
+    // A sum's number and sign (primitive()) join the term's number: the same term however
+    // GiNaC placed them.
+    auto base_of = [&](const ex& grouped, const GiNaC::numeric& k) -> std::uint32_t {
+      const ex b = unwrap(grouped);
+      if (!GiNaC::is_a<GiNaC::add>(b)) return compile(b);
+      const auto& [cb, s] = primitive(b);
+      const GiNaC::numeric ck = cb.power(k);
+      const double v = ck.to_double();
+      if (!(std::abs(v) >= 1e-300 && std::abs(v) <= 1e300)) return compile(b);
+      c *= ck;
+      return compile(s);
+    };
     auto factor = [&](const ex& f) {
       if (GiNaC::is_a<GiNaC::numeric>(f)) {
-        c *= number(f);
+        (void)number(f);  // a real number
+        c *= GiNaC::ex_to<GiNaC::numeric>(f);
         return;
       }
       if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1))) {
         const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(f.op(1));
         if (k.is_integer() && GiNaC::abs(k) < 1000) {
-          const std::uint32_t base = compile(f.op(0));
+          const std::uint32_t base = base_of(f.op(0), k);
           const int ki = static_cast<int>(k.to_long());
           if (nodes[base].state) {
             m.state[base] += ki;
@@ -791,7 +937,7 @@ class TapeBuilder {
           return;
         }
       }
-      const std::uint32_t x = compile(f);
+      const std::uint32_t x = base_of(f, 1);
       if (nodes[x].state) {
         m.state[x] += 1;
       } else {
@@ -799,15 +945,22 @@ class TapeBuilder {
       }
     };
     if (GiNaC::is_a<GiNaC::mul>(e)) {
-      for (const ex& f : sorted_operands(e)) factor(f);
+      std::vector<std::pair<std::uint64_t, ex>> factors;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const ex f = e.op(i);
+        factors.push_back({GiNaC::is_a<GiNaC::numeric>(f) ? 0 : factor_key(f, nullptr), f});
+      }
+      std::stable_sort(factors.begin(), factors.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (const auto& f : factors) factor(f.second);
     } else {
       factor(e);
     }
     for (auto it = m.state.begin(); it != m.state.end();) {
       it = it->second == 0 ? m.state.erase(it) : std::next(it);
     }
-    m.negative = c < 0;
-    const double magnitude = std::abs(c);
+    m.negative = c.is_negative();
+    const double magnitude = std::abs(c.to_double());
     std::uint32_t K = 0;
     bool have = quotient(knum, kden, K);
     if (magnitude != 1.0) {
