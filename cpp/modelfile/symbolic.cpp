@@ -581,6 +581,12 @@ class TapeBuilder {
       run(&in, 1, v);
       if (std::isfinite(v[2])) return literal(v[2]);
     }
+    // -(-x) is x; -(x - y) is y - x (rounding is symmetric): the sign the primitive form of a
+    // sum takes out often comes back.
+    if (o == Op::neg && nodes[a].kind == Kind::instr) {
+      if (nodes[a].op == Op::neg) return nodes[a].a;
+      if (nodes[a].op == Op::sub) return op(Op::sub, nodes[a].b, nodes[a].a);
+    }
     const NodeKey key{o, a, binary || o == Op::powi ? b : 0};
     auto it = dedupe_.find(key);
     if (it != dedupe_.end()) return it->second;
