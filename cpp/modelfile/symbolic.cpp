@@ -389,12 +389,20 @@ SymbolicModel derive(const ModelSource& src) {
                where.text + "\" grow too large; use fewer or simpler chained definitions)");
     }
   };
+  std::unordered_map<std::string, int> velocity_index;
+  for (int l = 0; l < n; ++l) velocity_index[symbol_name(m.qd[l])] = l;
   for (int j = 0; j < n; ++j) within_budget(src.kinetic, [&] {
     const ex p = calc.diff(m.T, m.qd[j]);
     for (int k = j; k < n; ++k) {
       const ex Mjk = calc.diff(p, m.qd[k]);
-      for (int l = 0; l < n; ++l) {
-        if (!calc.has(Mjk, m.qd[l])) continue;
+      // The velocities Mjk mentions, in index order (few or none: not a scan of all n).
+      std::vector<int> mentioned;
+      for (const std::string& name : calc.symbols(Mjk)) {
+        auto v = velocity_index.find(name);
+        if (v != velocity_index.end()) mentioned.push_back(v->second);
+      }
+      std::sort(mentioned.begin(), mentioned.end());
+      for (int l : mentioned) {
         if (!calc.inlined(calc.diff(Mjk, m.qd[l])).expand().is_zero()) {
           fail(src.kinetic.where, src.kinetic.key,
                "the kinetic energy T must be quadratic in the velocities (M = d2T/dqd2 "
