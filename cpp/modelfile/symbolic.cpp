@@ -39,6 +39,12 @@ constexpr std::size_t kDerivationBudget = 2'000'000;
 
 struct BudgetExceeded {};
 
+// The deepest nesting of expressions through chained definitions (each definition adds the
+// depth of its own expression). The derivation and the tape builder recurse once per level;
+// this bound keeps them inside the stack of any thread, also under the sanitizers (a Debug
+// build with AddressSanitizer overflowed at about 2000 levels, and ran 1400).
+constexpr int kMaxDefinitionDepth = 1000;
+
 unsigned group_serial_init();
 unsigned group_serial() {
   static const unsigned serial = group_serial_init();
@@ -341,9 +347,29 @@ SymbolicModel derive(const ModelSource& src) {
   base.add_hint({"R_", "", "the reactions R_<coordinate> may be used only in [" + outputs_key + "]"});
   base.add_hint({"", "_dd", "the accelerations <coordinate>_dd may be used only in [" +
                                 outputs_key + "]"});
+  // Nesting depth of each definition's value, through the definitions it uses (the
+  // derivation and the tape builder recurse that deep).
+  std::unordered_map<std::string, int> definition_depth;
+  std::function<int(const ex&)> depth_of = [&](const ex& e) -> int {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      auto it = definition_depth.find(symbol_name(e));
+      return it == definition_depth.end() ? 1 : it->second;
+    }
+    int d = 0;
+    for (std::size_t i = 0; i < e.nops(); ++i) d = std::max(d, depth_of(e.op(i)));
+    return d + 1;
+  };
   for (std::size_t i : definition_order(src)) {
     const auto& [name, text] = src.definitions[i];
     const ex value = out.parse(text);
+    const int depth = depth_of(value);
+    if (depth > kMaxDefinitionDepth) {
+      fail(text.where, text.key,
+           "the definitions nest " + std::to_string(depth) + " levels deep here (through the "
+           "definitions this one uses), more than the limit of " +
+               std::to_string(kMaxDefinitionDepth) + " (the derivation recurses that deep)");
+    }
+    definition_depth[name] = depth;
     // The definition stays a symbol (evaluated once on the tape, as written).
     const ex symbol = GiNaC::realsymbol(name);
     m.definitions.emplace_back(symbol, value);
