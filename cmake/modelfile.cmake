@@ -29,3 +29,9 @@ if(PCSIM_SANITIZE)
     "$<$<CONFIG:Debug>:LINKER:--undefined=__lsan_default_suppressions>"
     "$<$<CONFIG:Debug>:LINKER:--undefined=__lsan_default_options>")
 endif()
+
+# The evaluation-order test also runs the pcsim executable (defined later; generator
+# expressions resolve at generate time).
+if(TEST test_modelfile_evaluation_order)
+  set_tests_properties(test_modelfile_evaluation_order PROPERTIES ENVIRONMENT "PCSIM_EXE=$<TARGET_FILE:pcsim>")
+endif()

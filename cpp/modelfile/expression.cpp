@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <set>
 #include <sstream>
+#include <unordered_set>
 
 namespace pcsim::modelfile::detail {
 
@@ -234,8 +235,15 @@ double to_real(const ex& number, const ExprText& e) {
 
 namespace {
 
-// Every leaf of a parsed expression is a known symbol, pi or a finite real number.
-void check_leaves(const ex& e, const ExprText& where) {
+// Every leaf of a parsed expression is a known symbol, pi or a finite real number. Each node
+// is visited once (chained definitions share subexpressions: a walk of the tree would take
+// 2^k steps for k definitions that each use the previous one twice).
+struct ExHash {
+  std::size_t operator()(const ex& e) const { return e.gethash(); }
+};
+using ExSet = std::unordered_set<ex, ExHash, GiNaC::ex_is_equal>;
+void check_leaves(const ex& e, const ExprText& where, ExSet& seen) {
+  if (!seen.insert(e).second) return;
   if (GiNaC::is_a<GiNaC::numeric>(e)) {
     (void)to_real(e, where);
     return;
@@ -244,7 +252,11 @@ void check_leaves(const ex& e, const ExprText& where) {
     fail(where.where, where.key, std::string("the constant ") + GiNaC::ex_to<GiNaC::basic>(e).class_name() +
                                      " is not allowed in \"" + where.text + "\"");
   }
-  for (std::size_t i = 0; i < e.nops(); ++i) check_leaves(e.op(i), where);
+  for (std::size_t i = 0; i < e.nops(); ++i) check_leaves(e.op(i), where, seen);
+}
+void check_leaves(const ex& e, const ExprText& where) {
+  ExSet seen;
+  check_leaves(e, where, seen);
 }
 
 // The text with each number token replaced by an exact rational in parentheses: mantissa

@@ -9,7 +9,9 @@
 #include <functional>
 #include <map>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "modelfile/expression.hpp"
 
@@ -21,15 +23,250 @@ namespace {
 
 // ---- derivation ---------------------------------------------------------------------------
 
+std::string symbol_name(const ex& s) { return GiNaC::ex_to<GiNaC::symbol>(s).get_name(); }
+
+struct ExHash {
+  std::size_t operator()(const ex& e) const { return e.gethash(); }
+};
+
+// The derivation budget: symbolic operations (one per node differentiated, plus the products
+// a product's derivative forms) that derive() may spend on one model file. Chained
+// definitions share their subexpressions (a DAG), which the derivation below visits once per
+// node: 30 chained definitions cost a few hundred operations, the paper's sieve about
+// 2,500. The budget refuses, before minutes pass, a model file whose derivatives would be
+// enormous (see the README's limits table).
+constexpr std::size_t kDerivationBudget = 2'000'000;
+
+struct BudgetExceeded {};
+
+// The deepest nesting of expressions through chained definitions (each definition adds the
+// depth of its own expression). The derivation and the tape builder recurse once per level;
+// this bound keeps them inside the stack of any thread, also under the sanitizers (a Debug
+// build with AddressSanitizer overflowed at about 2000 levels, and ran 1400).
+constexpr int kMaxDefinitionDepth = 1000;
+
+unsigned group_serial_init();
+unsigned group_serial() {
+  static const unsigned serial = group_serial_init();
+  return serial;
+}
+
+// group(s): s itself, kept apart. GiNaC distributes a number over a sum it multiplies
+// (4*(x - a) becomes 4x - 4a, and then melts into the sum around it: 4x - 4a + y), which
+// turns the exact difference x - a of the user's expression into a cancellation. The
+// derivation wraps a sum that would be so multiplied (the power rule's n (x - a)^(n-1) with
+// n = 2, a product rule's remaining factor); the tape evaluates group(s) as s.
+ex group_eval(const ex& a) {
+  if (!GiNaC::is_a<GiNaC::add>(a)) return a;
+  return GiNaC::function(group_serial(), a).hold();
+}
+ex group_evalf(const ex& a) { return a.evalf(); }
+ex group_conjugate(const ex& a) { return GiNaC::function(group_serial(), a.conjugate()); }
+ex group_derivative(const ex&, unsigned) { return 1; }
+unsigned group_serial_init() {
+  return GiNaC::function::register_new(GiNaC::function_options("pcsim_group", 1)
+                                           .eval_func(group_eval)
+                                           .evalf_func(group_evalf)
+                                           .conjugate_func(group_conjugate)
+                                           .derivative_func(group_derivative));
+}
+bool is_group(const ex& e) {
+  return GiNaC::is_a<GiNaC::function>(e) &&
+         GiNaC::ex_to<GiNaC::function>(e).get_serial() == group_serial();
+}
+ex unwrap(const ex& e) { return is_group(e) ? e.op(0) : e; }
+
+// The product of factors, a sum among them grouped when it would be the only non-numeric
+// factor (GiNaC would distribute the number over it).
+ex product_of(GiNaC::exvector factors) {
+  int symbolic = 0;
+  std::size_t last = 0;
+  for (std::size_t i = 0; i < factors.size(); ++i) {
+    if (!GiNaC::is_a<GiNaC::numeric>(factors[i])) {
+      ++symbolic;
+      last = i;
+    }
+  }
+  if (symbolic == 1 && GiNaC::is_a<GiNaC::add>(factors[last])) {
+    factors[last] = GiNaC::function(group_serial(), factors[last]);
+  }
+  return GiNaC::dynallocate<GiNaC::mul>(std::move(factors));
+}
+
+// Differentiation and symbol queries that visit each node of an expression DAG once.
+// GiNaC's own diff() and has() walk the expression as a tree: a definition used twice by
+// the next one (d_k = sin(d_{k-1}) + cos(d_{k-1})) doubles the walk per level, 2^30 visits
+// for 30 chained definitions. Here every node's derivative is memoized (per symbol), so the
+// derivatives share their subexpressions as the expressions do. The results are the same
+// expressions GiNaC's diff() gives (the same rules, GiNaC's own for functions), unexpanded.
+class Calculus {
+ public:
+  // A definition: the symbol `name` stands for `value` (in symbols(), diff() and inlined()).
+  void define(const ex& symbol, const ex& value) { defs_[symbol_name(symbol)] = value; }
+
+  // ∂e/∂s, s a symbol.
+  ex diff(const ex& e, const ex& s) {
+    auto& memo = memo_[symbol_name(s)];
+    return d(e, s, memo);
+  }
+
+  // The names of the symbols in e that are not definitions, through the definitions: the
+  // union of its operands' (each node's set found once).
+  const std::unordered_set<std::string>& symbols(const ex& e) {
+    auto it = symbols_memo_.find(e);
+    if (it != symbols_memo_.end()) return it->second;
+    std::unordered_set<std::string> names;
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      auto def = defs_.find(symbol_name(e));
+      if (def == defs_.end()) names.insert(symbol_name(e));
+      else names = symbols(def->second);
+    } else {
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const auto& inner = symbols(e.op(i));
+        names.insert(inner.begin(), inner.end());
+      }
+    }
+    return symbols_memo_.emplace(e, std::move(names)).first->second;
+  }
+
+  bool has(const ex& e, const ex& s) { return symbols(e).count(symbol_name(s)) != 0; }
+
+  // e with the definitions substituted (memoized; GiNaC evaluates the result as a tree).
+  ex inlined(const ex& e) {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      auto def = defs_.find(symbol_name(e));
+      if (def == defs_.end()) return e;
+      return inlined(def->second);
+    }
+    if (e.nops() == 0) return e;
+    if (is_group(e)) return inlined(e.op(0));
+    auto it = inline_memo_.find(e);
+    if (it != inline_memo_.end()) return it->second;
+    struct Map : GiNaC::map_function {
+      Calculus* self;
+      explicit Map(Calculus* c) : self(c) {}
+      ex operator()(const ex& x) override { return self->inlined(x); }
+    } map(this);
+    const ex out = e.map(map);
+    inline_memo_.emplace(e, out);
+    return out;
+  }
+
+  std::size_t spent() const { return spent_; }
+
+ private:
+  using Memo = std::unordered_map<ex, ex, ExHash, GiNaC::ex_is_equal>;
+
+  void spend(std::size_t k) {
+    spent_ += k;
+    if (spent_ > kDerivationBudget) throw BudgetExceeded{};
+  }
+
+  ex d(const ex& e, const ex& s, Memo& memo) {
+    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) return 0;
+    auto it = memo.find(e);
+    if (it != memo.end()) return it->second;
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      if (e.is_equal(s)) return 1;
+      auto def = defs_.find(symbol_name(e));
+      if (def == defs_.end()) return 0;
+      const ex out = d(def->second, s, memo);  // the chain rule through a definition
+      memo.emplace(e, out);
+      return out;
+    }
+    if (!has(e, s)) {  // constant in s: no work, nothing spent
+      memo.emplace(e, 0);
+      return 0;
+    }
+    spend(1);
+    ex out;
+    if (GiNaC::is_a<GiNaC::add>(e)) {
+      GiNaC::exvector terms;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const ex t = d(e.op(i), s, memo);
+        if (!t.is_zero()) terms.push_back(t);
+      }
+      out = terms.empty() ? ex(0) : ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms)));
+    } else if (GiNaC::is_a<GiNaC::mul>(e)) {
+      // Σ_i (Π_{j≠i} f_j) ∂f_i
+      const std::size_t k = e.nops();
+      GiNaC::exvector terms;
+      for (std::size_t i = 0; i < k; ++i) {
+        const ex di = d(e.op(i), s, memo);
+        if (di.is_zero()) continue;
+        spend(k);
+        GiNaC::exvector factors;
+        for (std::size_t j = 0; j < k; ++j) factors.push_back(j == i ? di : e.op(j));
+        terms.push_back(product_of(std::move(factors)));
+      }
+      out = terms.empty() ? ex(0) : ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms)));
+    } else if (GiNaC::is_a<GiNaC::power>(e)) {
+      const ex& b = e.op(0);
+      const ex& k = e.op(1);
+      const ex db = d(b, s, memo);
+      if (GiNaC::is_a<GiNaC::numeric>(k)) {
+        // k b^(k-1) ∂b: (x - x0)^n stays n (x - x0)^(n-1) (GiNaC's rule)
+        out = db.is_zero() ? ex(0) : product_of({GiNaC::pow(b, k - 1), k, db});
+      } else {
+        const ex dk = d(k, s, memo);
+        // b^k (∂k log b + k ∂b / b)
+        out = e * (dk * GiNaC::log(b) + k * db * GiNaC::pow(b, -1));
+      }
+    } else if (GiNaC::is_a<GiNaC::function>(e)) {
+      // Σ_i ∂f/∂a_i (a) ∂a_i: GiNaC's partial derivative of f at symbols, at the arguments.
+      const GiNaC::function& f = GiNaC::ex_to<GiNaC::function>(e);
+      GiNaC::exvector terms;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const ex da = d(e.op(i), s, memo);
+        if (da.is_zero()) continue;
+        GiNaC::exmap at;
+        for (std::size_t j = 0; j < e.nops(); ++j) at[argument(j)] = e.op(j);
+        terms.push_back(
+            product_of({partial(f.get_serial(), e.nops(), i).subs(at, GiNaC::subs_options::no_pattern), da}));
+      }
+      out = terms.empty() ? ex(0) : ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms)));
+    } else {
+      out = e.diff(GiNaC::ex_to<GiNaC::symbol>(s));  // no other kind occurs in a model file
+    }
+    memo.emplace(e, out);
+    return out;
+  }
+
+  // The symbol standing for argument i of a function in partial().
+  static const ex& argument(std::size_t i) {
+    static std::vector<ex> args;
+    while (args.size() <= i) args.push_back(GiNaC::realsymbol("pcsim_arg" + std::to_string(args.size())));
+    return args[i];
+  }
+
+  // ∂f/∂a_i of the function with this serial at the argument symbols.
+  const ex& partial(unsigned serial, std::size_t nargs, std::size_t i) {
+    const auto key = std::make_tuple(serial, nargs, i);
+    auto it = partials_.find(key);
+    if (it != partials_.end()) return it->second;
+    GiNaC::exvector args;
+    for (std::size_t j = 0; j < nargs; ++j) args.push_back(argument(j));
+    const ex f = GiNaC::function(serial, args);
+    return partials_.emplace(key, f.diff(GiNaC::ex_to<GiNaC::symbol>(argument(i)))).first->second;
+  }
+
+  std::unordered_map<std::string, ex> defs_;
+  std::map<std::string, Memo> memo_;
+  Memo inline_memo_;
+  std::unordered_map<ex, std::unordered_set<std::string>, ExHash, GiNaC::ex_is_equal> symbols_memo_;
+  std::map<std::tuple<unsigned, std::size_t, std::size_t>, ex> partials_;
+  std::size_t spent_ = 0;
+};
+
 // The first symbol of `symbols` that e depends on, or -1.
-int first_used(const ex& e, const std::vector<ex>& symbols) {
+int first_used(Calculus& calc, const ex& e, const std::vector<ex>& symbols) {
+  const auto& names = calc.symbols(e);
   for (std::size_t i = 0; i < symbols.size(); ++i) {
-    if (e.has(symbols[i])) return static_cast<int>(i);
+    if (names.count(symbol_name(symbols[i]))) return static_cast<int>(i);
   }
   return -1;
 }
 
-std::string symbol_name(const ex& s) { return GiNaC::ex_to<GiNaC::symbol>(s).get_name(); }
 
 // Definitions in an order where each comes after the ones it uses; a cycle is an error.
 std::vector<std::size_t> definition_order(const ModelSource& src) {
@@ -65,18 +302,17 @@ std::vector<std::size_t> definition_order(const ModelSource& src) {
 }
 
 // γ of a row w = g q̇ + g0 (q̇ held fixed): Σ_l ∂w/∂q_l q̇_l + ∂w/∂t.
-ex along_motion(const ex& w, const SymbolicModel& m) {
-  ex out = w.diff(GiNaC::ex_to<GiNaC::symbol>(m.t));
-  for (int l = 0; l < m.n; ++l) out += w.diff(GiNaC::ex_to<GiNaC::symbol>(m.q[l])) * m.qd[l];
+ex along_motion(Calculus& calc, const ex& w, const SymbolicModel& m) {
+  ex out = calc.diff(w, m.t);
+  for (int l = 0; l < m.n; ++l) out += calc.diff(w, m.q[l]) * m.qd[l];
   return out;
 }
-
-const GiNaC::symbol& sym(const ex& e) { return GiNaC::ex_to<GiNaC::symbol>(e); }
 
 }  // namespace
 
 SymbolicModel derive(const ModelSource& src) {
   SymbolicModel m;
+  Calculus calc;
   const int n = static_cast<int>(src.coordinates.size());
   m.n = n;
   ExpressionParser base;
@@ -111,20 +347,44 @@ SymbolicModel derive(const ModelSource& src) {
   base.add_hint({"R_", "", "the reactions R_<coordinate> may be used only in [" + outputs_key + "]"});
   base.add_hint({"", "_dd", "the accelerations <coordinate>_dd may be used only in [" +
                                 outputs_key + "]"});
+  // Nesting depth of each definition's value, through the definitions it uses (the
+  // derivation and the tape builder recurse that deep).
+  std::unordered_map<std::string, int> definition_depth;
+  std::function<int(const ex&)> depth_of = [&](const ex& e) -> int {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      auto it = definition_depth.find(symbol_name(e));
+      return it == definition_depth.end() ? 1 : it->second;
+    }
+    int d = 0;
+    for (std::size_t i = 0; i < e.nops(); ++i) d = std::max(d, depth_of(e.op(i)));
+    return d + 1;
+  };
   for (std::size_t i : definition_order(src)) {
     const auto& [name, text] = src.definitions[i];
     const ex value = out.parse(text);
-    out.define(name, value);
-    if (first_used(value, m.R) >= 0 || first_used(value, m.qdd) >= 0) {
+    const int depth = depth_of(value);
+    if (depth > kMaxDefinitionDepth) {
+      fail(text.where, text.key,
+           "the definitions nest " + std::to_string(depth) + " levels deep here (through the "
+           "definitions this one uses), more than the limit of " +
+               std::to_string(kMaxDefinitionDepth) + " (the derivation recurses that deep)");
+    }
+    definition_depth[name] = depth;
+    // The definition stays a symbol (evaluated once on the tape, as written).
+    const ex symbol = GiNaC::realsymbol(name);
+    m.definitions.emplace_back(symbol, value);
+    calc.define(symbol, value);
+    out.define(name, symbol);
+    if (first_used(calc, value, m.R) >= 0 || first_used(calc, value, m.qdd) >= 0) {
       base.add_hint({name, "", "the definition '" + name + "' uses reactions or accelerations, "
                                "so only [" + outputs_key + "] may use it", true});
     } else {
-      base.define(name, value);
+      base.define(name, symbol);
     }
   }
 
   auto no_velocities = [&](const ex& e, const ExprText& text, const std::string& what) {
-    const int k = first_used(e, m.qd);
+    const int k = first_used(calc, e, m.qd);
     if (k >= 0) {
       fail(text.where, text.key, what + " may not depend on the velocities (it uses " +
                                      symbol_name(m.qd[k]) + ")");
@@ -143,13 +403,33 @@ SymbolicModel derive(const ModelSource& src) {
   m.M.assign(n, std::vector<ex>(n, ex(0)));
   m.h.assign(n, ex(0));
   m.Q.assign(n, ex(0));
-  for (int j = 0; j < n; ++j) {
-    const ex p = m.T.diff(sym(m.qd[j]));
+  // The derivatives keep the user's structure (no expansion): the tape evaluates them so.
+  // A derivation past the budget is an input error of the expression being derived.
+  auto within_budget = [&](const ExprText& where, const std::function<void()>& work) {
+    try {
+      work();
+    } catch (const BudgetExceeded&) {
+      fail(where.where, where.key,
+           "deriving the model needs more than the derivation budget of " +
+               std::to_string(kDerivationBudget) + " symbolic operations (the derivatives of \"" +
+               where.text + "\" grow too large; use fewer or simpler chained definitions)");
+    }
+  };
+  std::unordered_map<std::string, int> velocity_index;
+  for (int l = 0; l < n; ++l) velocity_index[symbol_name(m.qd[l])] = l;
+  for (int j = 0; j < n; ++j) within_budget(src.kinetic, [&] {
+    const ex p = calc.diff(m.T, m.qd[j]);
     for (int k = j; k < n; ++k) {
-      const ex Mjk = p.diff(sym(m.qd[k]));
-      for (int l = 0; l < n; ++l) {
-        if (!Mjk.has(m.qd[l])) continue;
-        if (!Mjk.diff(sym(m.qd[l])).expand().is_zero()) {
+      const ex Mjk = calc.diff(p, m.qd[k]);
+      // The velocities Mjk mentions, in index order (few or none: not a scan of all n).
+      std::vector<int> mentioned;
+      for (const std::string& name : calc.symbols(Mjk)) {
+        auto v = velocity_index.find(name);
+        if (v != velocity_index.end()) mentioned.push_back(v->second);
+      }
+      std::sort(mentioned.begin(), mentioned.end());
+      for (int l : mentioned) {
+        if (!calc.inlined(calc.diff(Mjk, m.qd[l])).expand().is_zero()) {
           fail(src.kinetic.where, src.kinetic.key,
                "the kinetic energy T must be quadratic in the velocities (M = d2T/dqd2 "
                "independent of them), but d2T/(d" + symbol_name(m.qd[j]) + " d" +
@@ -158,8 +438,13 @@ SymbolicModel derive(const ModelSource& src) {
       }
       m.M[j][k] = m.M[k][j] = Mjk;
     }
-    m.h[j] = along_motion(p, m) - m.T.diff(sym(m.q[j]));
-    m.Q[j] = -m.V.diff(sym(m.q[j])) - m.F.diff(sym(m.qd[j])) + applied[j];
+    m.h[j] = along_motion(calc, p, m) - calc.diff(m.T, m.q[j]);
+  });
+  for (int j = 0; j < n; ++j) {
+    ex dV, dF;
+    within_budget(src.potential, [&] { dV = calc.diff(m.V, m.q[j]); });
+    within_budget(src.dissipation, [&] { dF = calc.diff(m.F, m.qd[j]); });
+    m.Q[j] = -dV - dF + applied[j];
   }
 
   // Constraints: rows g, g0 and γ = d/dt(g q̇ + g0) − g q̈.
@@ -169,7 +454,7 @@ SymbolicModel derive(const ModelSource& src) {
     if (sc.spec.kind == mech::ConstraintKind::holonomic) {
       const ex phi = base.parse(sc.holonomic);
       no_velocities(phi, sc.holonomic, "a holonomic constraint Phi(q, t)");
-      if (first_used(phi, m.q) < 0) {
+      if (first_used(calc, phi, m.q) < 0) {
         fail(sc.holonomic.where, sc.holonomic.key,
              "the constraint '" + sc.spec.name + "' involves no coordinate (\"" +
                  sc.holonomic.text + "\")");
@@ -181,8 +466,10 @@ SymbolicModel derive(const ModelSource& src) {
         m.hidden.push_back(GiNaC::realsymbol("Phi0_" + sc.spec.name));
         c.phi = phi - m.hidden.back();
       }
-      for (int k = 0; k < n; ++k) c.g.push_back(phi.diff(sym(m.q[k])));
-      c.g0 = phi.diff(sym(m.t));
+      within_budget(sc.holonomic, [&] {
+        for (int k = 0; k < n; ++k) c.g.push_back(calc.diff(phi, m.q[k]));
+        c.g0 = calc.diff(phi, m.t);
+      });
     } else {
       c.holonomic = false;
       c.phi = 0;
@@ -203,16 +490,17 @@ SymbolicModel derive(const ModelSource& src) {
     }
     w = c.g0;
     for (int k = 0; k < n; ++k) w += c.g[k] * m.qd[k];
-    c.gamma = along_motion(w, m);
+    within_budget(sc.holonomic.text.empty() ? ExprText{src.where, sc.key, ""} : sc.holonomic,
+                  [&] { c.gamma = along_motion(calc, w, m); });
     c.constant_row = true;
     for (int k = 0; k < n; ++k) {
-      c.constant_row = c.constant_row && first_used(c.g[k], m.q) < 0 && !c.g[k].has(m.t);
+      c.constant_row = c.constant_row && first_used(calc, c.g[k], m.q) < 0 && !calc.has(c.g[k], m.t);
     }
     // Contact attributes: numbers of the parameters only (evaluated once per instantiate()).
     auto parameter_only = [&](const ExprText& e, const char* what) -> std::optional<ex> {
       if (e.text.empty()) return std::nullopt;
       const ex v = base.parse(e);
-      if (first_used(v, m.q) >= 0 || first_used(v, m.qd) >= 0 || v.has(m.t))
+      if (first_used(calc, v, m.q) >= 0 || first_used(calc, v, m.qd) >= 0 || calc.has(v, m.t))
         fail(e.where, e.key, std::string(what) + " must be an expression of the parameters only (\"" +
                                  e.text + "\")");
       return v;
@@ -227,7 +515,8 @@ SymbolicModel derive(const ModelSource& src) {
 
   if (src.period) {
     const ex period = base.parse(*src.period);
-    if (first_used(period, m.q) >= 0 || first_used(period, m.qd) >= 0 || period.has(m.t)) {
+    if (first_used(calc, period, m.q) >= 0 || first_used(calc, period, m.qd) >= 0 ||
+        calc.has(period, m.t)) {
       fail(src.period->where, src.period->key,
            "the period must be an expression of the parameters only (\"" + src.period->text +
                "\")");
@@ -237,13 +526,15 @@ SymbolicModel derive(const ModelSource& src) {
   return m;
 }
 
+ex inline_definitions(const SymbolicModel& model, const ex& e) {
+  Calculus calc;
+  for (const auto& [symbol, value] : model.definitions) calc.define(symbol, value);
+  return calc.inlined(e);
+}
+
 // ---- compilation into a tape ---------------------------------------------------------------
 
 namespace {
-
-struct ExHash {
-  std::size_t operator()(const ex& e) const { return e.gethash(); }
-};
 
 struct NodeKey {
   Op op;
@@ -273,6 +564,7 @@ class TapeBuilder {
   std::vector<Node> nodes;
 
   explicit TapeBuilder(const SymbolicModel& m) {
+    for (const auto& [symbol, value] : m.definitions) definitions_[symbol_name(symbol)] = value;
     zero = literal(0.0);
     one = literal(1.0);
     // Inputs in slot order: t, q, qd, qdd, R.
@@ -323,6 +615,12 @@ class TapeBuilder {
       run(&in, 1, v);
       if (std::isfinite(v[2])) return literal(v[2]);
     }
+    // -(-x) is x; -(x - y) is y - x (rounding is symmetric): the sign the primitive form of a
+    // sum takes out often comes back.
+    if (o == Op::neg && nodes[a].kind == Kind::instr) {
+      if (nodes[a].op == Op::neg) return nodes[a].a;
+      if (nodes[a].op == Op::sub) return op(Op::sub, nodes[a].b, nodes[a].a);
+    }
     const NodeKey key{o, a, binary || o == Op::powi ? b : 0};
     auto it = dedupe_.find(key);
     if (it != dedupe_.end()) return it->second;
@@ -349,42 +647,110 @@ class TapeBuilder {
   // A hash of e's structure made of names and numbers only. GiNaC orders the terms of sums and
   // the factors of products by hashes seeded with symbol serial numbers (which depend on how
   // many symbols the process made before) and type-name addresses (which change with address
-  // space randomization), so its order, and the shape of unexpanded expressions, differ from
-  // process to process. The tape compiles expanded expressions (a canonical form) in the order
-  // of this hash instead: the same file gives the same tape, and bit-identical results, in
-  // every process and on every load.
+  // space randomization), so its order differs from process to process (the expressions
+  // themselves, as sets of operands, do not). The tape takes the operands of every sum and
+  // product in the order of this hash instead: the same file gives the same tape, and
+  // bit-identical results, in every process and on every load. The expressions are compiled
+  // as the user wrote them and as differentiation made them, never expanded: expanding
+  // (x - 1000)^3 into x^3 - 3000 x^2 + ... would cancel catastrophically.
+  static std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
+    return (h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2))) * 0xff51afd7ed558ccdull;
+  }
+  static std::uint64_t number_hash(const GiNaC::numeric& n) {
+    const double v = n.to_double();
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    return mix(1, bits);
+  }
+
+  // shash is also blind to where GiNaC put a number or a sign: a sum hashes as its primitive
+  // form (see primitive()) and its factor c, a product as its number (including the factors
+  // of its sums) and its primitive factors. So -(a - b)*c and (b - a)*c hash alike (and
+  // compile alike).
   std::uint64_t shash(const ex& e) {
     auto it = shash_memo_.find(e);
     if (it != shash_memo_.end()) return it->second;
-    auto mix = [](std::uint64_t h, std::uint64_t v) {
-      return (h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2))) * 0xff51afd7ed558ccdull;
-    };
     std::uint64_t h = 0;
     if (GiNaC::is_a<GiNaC::numeric>(e)) {
-      const double v = GiNaC::ex_to<GiNaC::numeric>(e).to_double();
-      std::uint64_t bits;
-      std::memcpy(&bits, &v, sizeof bits);
-      h = mix(1, bits);
+      h = number_hash(GiNaC::ex_to<GiNaC::numeric>(e));
     } else if (GiNaC::is_a<GiNaC::symbol>(e)) {
       h = mix(2, std::hash<std::string>()(symbol_name(e)));
     } else if (GiNaC::is_a<GiNaC::constant>(e)) {
       h = mix(3, e.is_equal(GiNaC::Pi) ? 1u : 2u);  // only pi is allowed
+    } else if (is_group(e)) {
+      h = shash(e.op(0));
+    } else if (GiNaC::is_a<GiNaC::add>(e)) {
+      const auto& [c, s] = primitive(e);
+      h = mix(sum_hash(s), number_hash(c));
+    } else if (GiNaC::is_a<GiNaC::mul>(e) || is_integer_power(e)) {
+      GiNaC::numeric c = 1;
+      std::vector<std::uint64_t> factors;
+      auto factor = [&](const ex& f) {
+        if (GiNaC::is_a<GiNaC::numeric>(f)) {
+          c *= GiNaC::ex_to<GiNaC::numeric>(f);
+        } else {
+          factors.push_back(factor_key(f, &c));
+        }
+      };
+      if (GiNaC::is_a<GiNaC::mul>(e)) {
+        for (std::size_t i = 0; i < e.nops(); ++i) factor(e.op(i));
+      } else {
+        factor(e);
+      }
+      std::sort(factors.begin(), factors.end());
+      h = 6;
+      for (std::uint64_t f : factors) h = mix(h, f);
+      h = mix(h, number_hash(c));
     } else {
       std::vector<std::uint64_t> children;
       for (std::size_t i = 0; i < e.nops(); ++i) children.push_back(shash(e.op(i)));
       std::uint64_t tag = 4;
-      if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
-        std::sort(children.begin(), children.end());  // commutative
-        tag = GiNaC::is_a<GiNaC::add>(e) ? 5 : 6;
-      } else if (GiNaC::is_a<GiNaC::power>(e)) {
+      if (GiNaC::is_a<GiNaC::power>(e)) {
         tag = 7;
       } else if (GiNaC::is_a<GiNaC::function>(e)) {
         tag = mix(8, std::hash<std::string>()(GiNaC::ex_to<GiNaC::function>(e).get_name()));
       }
       h = tag;
-      for (std::uint64_t c : children) h = mix(h, c);
+      for (std::uint64_t ch : children) h = mix(h, ch);
     }
     shash_memo_.emplace(e, h);
+    return h;
+  }
+
+  static bool is_integer_power(const ex& e) {
+    if (!GiNaC::is_a<GiNaC::power>(e) || !GiNaC::is_a<GiNaC::numeric>(e.op(1))) return false;
+    const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(e.op(1));
+    return k.is_integer() && GiNaC::abs(k) < 1000;
+  }
+
+  // The hash of a non-numeric factor of a product without its number: a sum or an integer
+  // power of a sum as its primitive form (the number, c^k, multiplies *c if c is given).
+  std::uint64_t factor_key(const ex& f, GiNaC::numeric* c) {
+    ex base = f;
+    GiNaC::numeric k = 1;
+    if (is_integer_power(f)) {
+      base = f.op(0);
+      k = GiNaC::ex_to<GiNaC::numeric>(f.op(1));
+    }
+    std::uint64_t b;
+    base = unwrap(base);
+    if (GiNaC::is_a<GiNaC::add>(base)) {
+      const auto& [cb, s] = primitive(base);
+      if (c) *c *= cb.power(k);
+      b = sum_hash(s);
+    } else {
+      b = shash(base);
+    }
+    return mix(mix(7, b), number_hash(k));
+  }
+
+  // The hash of a sum from its terms (in any order).
+  std::uint64_t sum_hash(const ex& s) {
+    std::vector<std::uint64_t> terms;
+    for (std::size_t i = 0; i < s.nops(); ++i) terms.push_back(shash(s.op(i)));
+    std::sort(terms.begin(), terms.end());
+    std::uint64_t h = 5;
+    for (std::uint64_t t : terms) h = mix(h, t);
     return h;
   }
 
@@ -409,8 +775,10 @@ class TapeBuilder {
 
  private:
   std::unordered_map<ex, std::uint32_t, ExHash, GiNaC::ex_is_equal> memo;
+  std::unordered_map<std::string, ex> definitions_;
   std::unordered_map<NodeKey, std::uint32_t, NodeKeyHash> dedupe_;
   std::unordered_map<ex, std::uint64_t, ExHash, GiNaC::ex_is_equal> shash_memo_;
+  std::unordered_map<ex, std::pair<GiNaC::numeric, ex>, ExHash, GiNaC::ex_is_equal> primitive_memo_;
   std::unordered_map<std::uint64_t, std::uint32_t> literals_;
 
   std::uint32_t add_node(const Node& node) {
@@ -453,6 +821,55 @@ class TapeBuilder {
     return op(Op::pow, base, compile(exponent));
   }
 
+  // A sum as c * s with c a rational number and s primitive: its coefficients integers without
+  // a common factor (when they are rational), its sign fixed by shash (s or -s, whichever
+  // hashes lower). Two reasons: GiNaC distributes a number over a sum (3*(x - 1000) becomes
+  // 3*x - 3000, which loses the digits of x - 1000; here it is 3*(x - 1000) again, exactly),
+  // and where the number and the sign of a product land depends on the order in which GiNaC
+  // formed it (-(a - b)*c or (b - a)*c), which differs between processes; the primitive form
+  // is the same in all.
+  const std::pair<GiNaC::numeric, ex>& primitive(const ex& e) {
+    auto it = primitive_memo_.find(e);
+    if (it != primitive_memo_.end()) return it->second;
+    GiNaC::numeric c = rational_content(e);
+    ex s = c.is_equal(1) ? e : e / c;
+    if (!GiNaC::is_a<GiNaC::add>(s)) {
+      c = 1;
+      s = e;
+    }
+    const ex negated = -s;
+    if (GiNaC::is_a<GiNaC::add>(negated) && sum_hash(negated) < sum_hash(s)) {
+      c = -c;
+      s = negated;
+    }
+    return primitive_memo_.emplace(e, std::make_pair(c, s)).first->second;
+  }
+
+  // The largest positive rational c such that every coefficient of the sum e is an integer
+  // multiple of c (gcd of the numerators over lcm of the denominators), or 1 if a coefficient
+  // is not rational.
+  static GiNaC::numeric rational_content(const ex& e) {
+    GiNaC::numeric g = 0, l = 1;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const ex t = e.op(i);
+      GiNaC::numeric c = 1;
+      if (GiNaC::is_a<GiNaC::numeric>(t)) {
+        c = GiNaC::ex_to<GiNaC::numeric>(t);
+      } else if (GiNaC::is_a<GiNaC::mul>(t)) {
+        for (std::size_t j = 0; j < t.nops(); ++j) {
+          if (GiNaC::is_a<GiNaC::numeric>(t.op(j))) c *= GiNaC::ex_to<GiNaC::numeric>(t.op(j));
+        }
+      }
+      if (!c.is_rational() || c.is_zero()) return 1;
+      g = GiNaC::gcd(g, c.numer());
+      l = GiNaC::lcm(l, c.denom());
+    }
+    if (g.is_zero()) return 1;
+    const double v = (g / l).to_double();
+    if (!(v >= 1e-300 && v <= 1e300)) return 1;  // a factor that is not a normal double
+    return g / l;
+  }
+
   std::uint32_t compile_new(const ex& e) {
     if (GiNaC::is_a<GiNaC::numeric>(e)) return literal(number(e));
     if (GiNaC::is_a<GiNaC::constant>(e)) {
@@ -460,20 +877,30 @@ class TapeBuilder {
       throw std::runtime_error(std::string("the constant ") + GiNaC::ex_to<GiNaC::basic>(e).class_name());
     }
     if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      auto def = definitions_.find(symbol_name(e));
+      if (def != definitions_.end()) return compile(def->second);  // once per definition
       throw std::runtime_error("the unknown symbol " + symbol_name(e));
     }
     if (GiNaC::is_a<GiNaC::add>(e)) {
+      const auto& [c, primitive_sum] = primitive(e);
+      if (!c.is_equal(1)) {
+        const std::uint32_t inner = compile(primitive_sum);
+        const double m = std::abs(c.to_double());
+        return finish(Signed{c.is_negative(), m == 1.0 ? inner : op(Op::mul, literal(m), inner)});
+      }
       std::vector<Monomial> terms;
       for (const ex& op : sorted_operands(e)) terms.push_back(monomial(op));
       return finish(sum(std::move(terms)));
     }
     if (GiNaC::is_a<GiNaC::mul>(e)) return finish(sum({monomial(e)}));
+    if (is_integer_power(e)) return finish(sum({monomial(e)}));  // as in a product
     if (GiNaC::is_a<GiNaC::power>(e)) return power(e.op(0), e.op(1));
     if (GiNaC::is_a<GiNaC::function>(e)) {
       const GiNaC::function& f = GiNaC::ex_to<GiNaC::function>(e);
       const std::string name = f.get_name();
       const unsigned serial = f.get_serial();
       auto arg = [&](std::size_t i) { return compile(e.op(i)); };
+      if (serial == group_serial()) return arg(0);
       if (serial == min_serial()) return op(Op::min, arg(0), arg(1));
       if (serial == max_serial()) return op(Op::max, arg(0), arg(1));
       if (serial == heaviside_serial()) return op(Op::step, arg(0));
@@ -508,17 +935,30 @@ class TapeBuilder {
 
   Monomial monomial(const ex& e) {
     Monomial m;
-    double c = 1.0;
+    GiNaC::numeric c = 1;  // exact: the same number whatever the order of the factors
     std::vector<std::uint32_t> knum, kden;
+    // A sum's number and sign (primitive()) join the term's number: the same term however
+    // GiNaC placed them.
+    auto base_of = [&](const ex& grouped, const GiNaC::numeric& k) -> std::uint32_t {
+      const ex b = unwrap(grouped);
+      if (!GiNaC::is_a<GiNaC::add>(b)) return compile(b);
+      const auto& [cb, s] = primitive(b);
+      const GiNaC::numeric ck = cb.power(k);
+      const double v = ck.to_double();
+      if (!(std::abs(v) >= 1e-300 && std::abs(v) <= 1e300)) return compile(b);
+      c *= ck;
+      return compile(s);
+    };
     auto factor = [&](const ex& f) {
       if (GiNaC::is_a<GiNaC::numeric>(f)) {
-        c *= number(f);
+        (void)number(f);  // a real number
+        c *= GiNaC::ex_to<GiNaC::numeric>(f);
         return;
       }
       if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1))) {
         const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(f.op(1));
         if (k.is_integer() && GiNaC::abs(k) < 1000) {
-          const std::uint32_t base = compile(f.op(0));
+          const std::uint32_t base = base_of(f.op(0), k);
           const int ki = static_cast<int>(k.to_long());
           if (nodes[base].state) {
             m.state[base] += ki;
@@ -537,7 +977,7 @@ class TapeBuilder {
           return;
         }
       }
-      const std::uint32_t x = compile(f);
+      const std::uint32_t x = base_of(f, 1);
       if (nodes[x].state) {
         m.state[x] += 1;
       } else {
@@ -545,15 +985,22 @@ class TapeBuilder {
       }
     };
     if (GiNaC::is_a<GiNaC::mul>(e)) {
-      for (const ex& f : sorted_operands(e)) factor(f);
+      std::vector<std::pair<std::uint64_t, ex>> factors;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const ex f = e.op(i);
+        factors.push_back({GiNaC::is_a<GiNaC::numeric>(f) ? 0 : factor_key(f, nullptr), f});
+      }
+      std::stable_sort(factors.begin(), factors.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (const auto& f : factors) factor(f.second);
     } else {
       factor(e);
     }
     for (auto it = m.state.begin(); it != m.state.end();) {
       it = it->second == 0 ? m.state.erase(it) : std::next(it);
     }
-    m.negative = c < 0;
-    const double magnitude = std::abs(c);
+    m.negative = c.is_negative();
+    const double magnitude = std::abs(c.to_double());
     std::uint32_t K = 0;
     bool have = quotient(knum, kden, K);
     if (magnitude != 1.0) {
@@ -687,7 +1134,7 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
   TapeBuilder b(m);
   auto compile = [&](const ex& e, const ExprText& where) {
     try {
-      return b.compile(e.expand());
+      return b.compile(e);
     } catch (const std::runtime_error& err) {
       fail(where.where, where.key, std::string("cannot evaluate ") + err.what() +
                                        " (from \"" + where.text + "\")");

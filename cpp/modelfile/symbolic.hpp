@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <utility>
 #include <optional>
 #include <vector>
 
@@ -23,6 +24,12 @@ struct SymbolicModel {
   GiNaC::ex t;
   std::vector<GiNaC::ex> parameters;     ///< in ModelSource::parameters order
   std::vector<GiNaC::ex> hidden;         ///< Φ_i(q0, t0) of the from_initial constraints
+  /// The definitions ([model.define]) in dependency order: a symbol named after each, and its
+  /// value (which refers to earlier definitions by their symbols). The expressions below keep
+  /// the definitions as symbols: inlining them would let GiNaC rewrite the user's structure
+  /// ((a b)^2 becomes a^2 b^2, so d*d/(d*d+1) chained k times becomes powers 2^k) and walk
+  /// shared subexpressions once per use.
+  std::vector<std::pair<GiNaC::ex, GiNaC::ex>> definitions;
 
   GiNaC::ex T, V, F;                     ///< definitions inlined
   std::vector<std::vector<GiNaC::ex>> M; ///< n x n, symmetric
@@ -41,6 +48,10 @@ struct SymbolicModel {
   std::vector<GiNaC::ex> outputs;
   std::optional<GiNaC::ex> period;
 };
+
+/// e with every definition symbol replaced by its value, recursively (GiNaC's tree form, for
+/// tests and checks that need the expression in the coordinates alone; it may be large).
+GiNaC::ex inline_definitions(const SymbolicModel& model, const GiNaC::ex& e);
 
 /// Parses and differentiates; throws InputError naming the file and key on any bad input.
 SymbolicModel derive(const ModelSource& source);

@@ -64,10 +64,32 @@ struct Symbolic {
   detail::SymbolicModel model;
 };
 
+// The model's expressions with the definitions substituted (the derivation keeps them as
+// symbols; GiNaC's evaluation and differentiation below need the coordinates alone).
+void inline_definitions(detail::SymbolicModel& m) {
+  auto in = [&](ex& e) { e = detail::inline_definitions(m, e); };
+  for (auto& row : m.M)
+    for (ex& e : row) in(e);
+  for (ex& e : m.h) in(e);
+  for (ex& e : m.Q) in(e);
+  in(m.T);
+  in(m.V);
+  in(m.F);
+  for (auto& c : m.constraints) {
+    in(c.phi);
+    for (ex& e : c.g) in(e);
+    in(c.g0);
+    in(c.gamma);
+  }
+  for (ex& e : m.outputs) in(e);
+  if (m.period) in(*m.period);
+}
+
 Symbolic derive_file(const std::filesystem::path& file) {
   std::lock_guard<std::mutex> lock(detail::ginac_mutex());
   Symbolic s{detail::load_model_source(file), {}};
   s.model = detail::derive(s.source);
+  inline_definitions(s.model);
   return s;
 }
 
@@ -76,6 +98,7 @@ Symbolic derive_text(const std::string& text) {
   const toml::table doc = toml::parse(text);
   Symbolic s{detail::read_model_source(*doc["model"].as_table(), "functions.toml", "model"), {}};
   s.model = detail::derive(s.source);
+  inline_definitions(s.model);
   return s;
 }
 
