@@ -38,6 +38,14 @@ double floor_for(const std::string& path) {
   if (path.rfind("/qd_end/", 0) == 0) return 1e-7;
   if (path == "/q_end/x" || path == "/q_end/y" || path == "/q_end/theta") return 1e-4;
   if (path == "/theta_mean") return 1e-8;
+  // The normal force and the margins built from it are known to 5 digits of the roller's weight
+  // (R_u ~ 5 N, margins ~ 1), not of their own value: in a hopping run R_u_min is the force at
+  // lift-off, zero up to rounding (~1e-10 N), whose digits change with the order of operations.
+  if (path == "/R_u_min" || path == "/R_u_max") return 1.0;
+  if (path == "/R_u_min_over_weight" || path.rfind("/margins/", 0) == 0) return 1.0;
+  // A penetration of a contact is compared to 1e-14 m: rounding-level depths (~1e-15 m) are
+  // noise, anything a body really sinks in is not.
+  if (path.size() >= 16 && path.compare(path.size() - 16, 16, "/penetration_max") == 0) return 1e-9;
   if (path.find("theta") != std::string::npos) return 1e-9;
   return 1e-12;
 }
@@ -72,7 +80,12 @@ void compare(const nlohmann::json& a, const nlohmann::json& r, const std::string
     return;
   }
   if (r.is_object()) {
+    // The time of the deepest penetration is only a result when the penetration is one: at
+    // rounding depth (< 1e-9 m in the reference) any instant of contact is as deep.
+    const bool noise_penetration = r.contains("penetration_max") && r["penetration_max"].is_number() &&
+                                   std::abs(r["penetration_max"].get<double>()) < 1e-9;
     for (auto it = r.begin(); it != r.end(); ++it) {
+      if (noise_penetration && it.key() == "penetration_time" && !exact) continue;
       if (!a.contains(it.key())) {
         std::printf("%s/%s: missing\n", path.c_str(), it.key().c_str());
         ++failures;
