@@ -24,7 +24,9 @@ std::string fmt(double v) { return format_significant(v, 6); }
 std::string coordinate_list(const Model& model, const Eigen::VectorXd& v, double threshold) {
   std::string out;
   for (int i = 0; i < v.size() && i < model.n(); ++i) {
-    if (!(std::abs(v[i]) <= threshold)) {  // also catches NaN
+    // Infinite entries too: with threshold = INFINITY, |inf| <= threshold held and an infinite
+    // force was reported as "(coordinate )".
+    if (!std::isfinite(v[i]) || !(std::abs(v[i]) <= threshold)) {
       if (!out.empty()) out += ", ";
       out += "'" + model.coordinates()[i] + "'";
     }

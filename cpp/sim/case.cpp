@@ -3,12 +3,12 @@
 #include "sim/case.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <cstdlib>
 #include <fstream>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -247,9 +247,15 @@ const KeySpec* find(const std::vector<KeySpec>& keys, const std::string& dotted)
   return nullptr;
 }
 
+// A loop, not std::regex: libstdc++'s matcher recurses once per character and overflowed the
+// stack on a 50,000-character constraint name.
 bool is_identifier(const std::string& s) {
-  static const std::regex id("[A-Za-z_][A-Za-z0-9_]*");
-  return std::regex_match(s, id);
+  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (!((c < 128 && std::isalnum(c)) || ch == '_')) return false;
+  }
+  return true;
 }
 
 // The table that holds `section` (dotted, e.g. "constraints.added"), created if asked.
@@ -517,10 +523,16 @@ void check_model_accepts(const fs::path& file, const Case& c) {
     c.model->instantiate(s.parameters, s.q0, 0.0, c.table, "");
   } catch (const InputError& e) {
     const std::string msg = e.what();
-    static const std::regex param("parameter '([A-Za-z_][A-Za-z0-9_]*)'");
-    std::smatch m;
-    if (std::regex_search(msg, m, param))
-      throw InputError(where(file) + ": key 'parameters." + m[1].str() + "': " + msg);
+    // "parameter 'NAME'" in the message names the key (a search by hand: std::regex
+    // recurses per character and a message may quote a long name).
+    const std::string marker = "parameter '";
+    for (std::size_t p = msg.find(marker); p != std::string::npos; p = msg.find(marker, p + 1)) {
+      const std::size_t b = p + marker.size();
+      const std::size_t end = msg.find('\'', b);
+      const std::string name = end == std::string::npos ? std::string() : msg.substr(b, end - b);
+      if (is_identifier(name))
+        throw InputError(where(file) + ": key 'parameters." + name + "': " + msg);
+    }
     throw InputError(where(file) + ": " + msg);
   }
 }
