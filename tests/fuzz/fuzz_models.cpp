@@ -1,7 +1,7 @@
 // The deterministic mutation harness of model files and added constraints (CTest: fuzz_models).
 //
 //   fuzz_models [--seconds S] [--seed N] [--max-inputs K] [--input-seconds T] [--max-rss-mb M]
-//               [--big-powers 1]
+//               [--big-powers 1] [--save-defects DIR]
 //
 // An input is a case file with an inline model: one of the model files in models/ or a small
 // pendulum, whose expressions (and names) are mutated with hostile text: calls with 0 to 3
@@ -331,6 +331,7 @@ class Watchdog {
 int main(int argc, char** argv) {
   double seconds = 10.0, input_seconds = 2.0, max_rss_mb = 2048.0;
   unsigned long long seed = 19, max_inputs = ~0ull;
+  std::string save;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--seconds") seconds = std::atof(argv[i + 1]);
@@ -339,6 +340,7 @@ int main(int argc, char** argv) {
     else if (a == "--input-seconds") input_seconds = std::atof(argv[i + 1]);
     else if (a == "--max-rss-mb") max_rss_mb = std::atof(argv[i + 1]);
     else if (a == "--big-powers") g_big_powers = std::string(argv[i + 1]) == "1";
+    else if (a == "--save-defects") save = argv[i + 1];
   }
   const auto corpus = seeds();
   std::mt19937_64 rng(seed);
@@ -366,6 +368,7 @@ int main(int argc, char** argv) {
       std::printf("fuzz_models: DEFECT on input %llu (seed %llu): %s\n----- input (first 4000 bytes) -----\n%s\n-----\n",
                   n, seed, o == FuzzOutcome::defect ? what.c_str() : ("took " + std::to_string(took) + " s").c_str(),
                   input.substr(0, 4000).c_str());
+      if (!save.empty()) std::ofstream(fs::path(save) / ("defect_" + std::to_string(n) + ".toml")) << input;
       return 1;
     }
   }
