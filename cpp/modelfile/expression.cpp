@@ -359,7 +359,7 @@ class Descent {
     ex r = expression();
     if (k_ < tk_.size()) {
       error(tk_[k_].begin, "syntax error: expected an operator or the end of the expression, got '" +
-                               tk_[k_].text + "'");
+                               shortened(tk_[k_].text) + "'");
     }
     return r;
   }
@@ -380,7 +380,7 @@ class Descent {
   }
   std::size_t here() const { return k_ < tk_.size() ? tk_[k_].begin : e_.text.size(); }
   std::string got() const {
-    return k_ < tk_.size() ? "'" + tk_[k_].text + "'" : std::string("the end of the expression");
+    return k_ < tk_.size() ? "'" + shortened(tk_[k_].text) + "'" : std::string("the end of the expression");
   }
 
   struct Level {

@@ -244,6 +244,11 @@ BOOST_AUTO_TEST_CASE(huge_exact_powers_are_refused_before_ginac_computes_them) {
   expect_refused(model("y*10^400"), "model.energy.potential", {"out of the range of double"});
   expect_refused(model("y*(1" + repeat("1", 900) + ")^1000"), "model.energy.potential", {"out of the range of double"});
   expect_refused(model("y*(1.0" + repeat("0", 900) + "1)^1000"), "model.energy.potential", {"bits"});
+  // GiNaC's errors while it evaluates are input errors with the column.
+  expect_refused(model("y + 1/0"), "model.energy.potential", {"cannot evaluate", "column 6"});
+  expect_refused(model("y + log(0)"), "model.energy.potential", {"cannot evaluate", "column 5"});
+  expect_refused(model("y + 0^(-2)"), "model.energy.potential", {"cannot evaluate"});
+  expect_refused(model("y*tan(pi/2)"), "model.energy.potential", {"cannot evaluate"});
   // What users need stays legal.
   loads(model("(y - 1)^60 + (x - 1)^2/2 + (x - 1)^44"));
   loads(model("y^1000 + y^(-1000)*0 + 10^(-3)*y + 2^0.5*y"));
