@@ -580,7 +580,7 @@ Case finish_case(const fs::path& file, toml::table t, const std::vector<Override
 Override parse_override(const std::string& text) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError("--set '" + text + "': expected KEY=VALUE, e.g. parameters.omega=300");
+    throw InputError("--set '" + text.substr(0, 200) + "': expected KEY=VALUE, e.g. parameters.omega=300");
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
@@ -589,8 +589,11 @@ std::vector<Override> command_line_overrides(const std::vector<std::string>& set
   std::vector<Override> overrides;
   for (const auto& s : sets) overrides.push_back(parse_override(s));
   for (const auto& s : added_constraints) {
-    const Override o = parse_override(s);
-    overrides.emplace_back("constraints.added." + o.first, o.second);
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("--constraint '" + s.substr(0, 200) +
+                       "': expected NAME=EXPR, e.g. --constraint 'hold=s - 0.4'");
+    overrides.emplace_back("constraints.added." + s.substr(0, eq), s.substr(eq + 1));
   }
   return overrides;
 }

@@ -87,6 +87,11 @@ BOOST_AUTO_TEST_CASE(hostile_added_constraints_end_with_exit_2) {
           "constraints.added.c", {"nested at most 200 levels"});
   refused(d, "--constraint 'c=" + std::string(10000, '-') + "x'", "constraints.added.c",
           {"nested at most 200 levels"});
+  for (const std::string bad : {"=x", "x"}) {
+    const Result r = sh("'" + exe() + "' run c.toml --out out --constraint '" + bad + "'", d.path);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(has(r.out, "--constraint '" + bad + "': expected NAME=EXPR"), r.out);
+  }
   const std::string name(50000, 'c');
   refused(d, "--constraint '" + name + "=x'", "constraints.added.ccc", {"at most 128 characters"});
   refused(d, "--set 'constraints.added." + name + "=x'", "constraints.added.ccc", {"at most 128 characters"});
