@@ -182,6 +182,25 @@ BOOST_AUTO_TEST_CASE(definitions_nest_to_a_bounded_depth_and_legal_chains_load) 
   BOOST_TEST(contains_all(msg, {file.string(), "key 'model.define.d", "levels deep"}), msg);
 }
 
+// The chained definitions (30 of d_k = sin(d_{k-1}) + cos(d_{k-1}), 8 of d*d/(d*d + 1))
+// are legal: the parser's limits pass them, at once (their derivation's cost is the derivation
+// budget's matter).
+BOOST_AUTO_TEST_CASE(the_parsers_limits_pass_long_legal_chains_of_definitions) {
+  std::lock_guard<std::mutex> lock(detail::ginac_mutex());
+  for (const std::string step : {"sin(d) + cos(d)", "d*d/(d*d + 1)", "2*sin(d)"}) {
+    const int n = step == "2*sin(d)" ? 400 : (step[0] == 's' ? 30 : 8);
+    detail::ExpressionParser p;
+    p.define("y", GiNaC::realsymbol("y"));
+    p.define("d", p.table().at("y"));
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 1; k <= n; ++k) {
+      std::string msg = input_error_of([&] { p.define("d", p.parse({"<test>", "model.define.d" + std::to_string(k), step})); });
+      BOOST_TEST(msg.empty(), msg);
+    }
+    BOOST_TEST(seconds_since(t0) < 2.0, step);
+  }
+}
+
 BOOST_AUTO_TEST_CASE(sizes_and_counts_are_bounded_before_any_work) {
   // An expression longer than the limit.
   expect_refused(model("y" + repeat("+y", lim::expression_length / 2)), "model.energy.potential",
