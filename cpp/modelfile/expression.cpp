@@ -425,6 +425,9 @@ class Descent {
       const bool divide = tk_[k_].text == "/";
       const std::size_t at = tk_[k_++].begin;
       const ex rhs = unary();
+      // Refused here, not by GiNaC: it throws from inside the power it allocated for 1/0, and
+      // that object is never freed.
+      if (divide && rhs.is_zero()) error(at, "cannot evaluate this part (a division by zero)");
       r = build(at, [&] { return divide ? ex(r / rhs) : ex(r * rhs); });
     }
     return r;
@@ -493,6 +496,12 @@ class Descent {
           }
         }
       }
+    }
+    // 0^0 and 0^(-n) are refused here: GiNaC throws from inside the power it allocated, and
+    // that object is never freed.
+    if (base.is_zero() && GiNaC::is_a<GiNaC::numeric>(exp) &&
+        !(GiNaC::ex_to<GiNaC::numeric>(exp).real() > 0)) {
+      error(at, "cannot evaluate this part (0 to a power that is not positive)");
     }
     return build(at, [&] { return ex(GiNaC::pow(base, exp)); });
   }
