@@ -285,7 +285,7 @@ std::string mutate(std::string s, std::mt19937_64& rng) {
 // until its timeout, without saying which input).
 class Watchdog {
  public:
-  explicit Watchdog(double limit) : limit_(limit), thread_([this] { loop(); }) {}
+  Watchdog(double limit, std::string save) : limit_(limit), save_(std::move(save)), thread_([this] { loop(); }) {}
   ~Watchdog() {
     {
       std::lock_guard<std::mutex> l(m_);
@@ -294,9 +294,10 @@ class Watchdog {
     cv_.notify_all();
     thread_.join();
   }
-  void start(const std::string* input) {
+  void start(const std::string* input, unsigned long long n) {
     std::lock_guard<std::mutex> l(m_);
     input_ = input;
+    n_ = n;
     since_ = std::chrono::steady_clock::now();
   }
   void done() {
@@ -310,14 +311,17 @@ class Watchdog {
     while (!stop_) {
       cv_.wait_for(l, std::chrono::milliseconds(200));
       if (input_ && std::chrono::duration<double>(std::chrono::steady_clock::now() - since_).count() > limit_) {
-        std::printf("fuzz_models: DEFECT: an input ran more than %.0f s (a runaway)\n----- input (first 4000 bytes) -----\n%s\n-----\n",
-                    limit_, input_->substr(0, 4000).c_str());
+        std::printf("fuzz_models: DEFECT: input %llu ran more than %.0f s (a runaway)\n----- input (first 4000 bytes) -----\n%s\n-----\n",
+                    n_, limit_, input_->substr(0, 4000).c_str());
+        if (!save_.empty()) std::ofstream(fs::path(save_) / ("runaway_" + std::to_string(n_) + ".toml")) << *input_;
         std::fflush(stdout);
         std::_Exit(1);
       }
     }
   }
   double limit_;
+  std::string save_;
+  unsigned long long n_ = 0;
   std::mutex m_;
   std::condition_variable cv_;
   bool stop_ = false;
@@ -347,14 +351,14 @@ int main(int argc, char** argv) {
   long counts[4] = {0, 0, 0, 0};
   double slowest = 0.0;
   std::string slowest_input;
-  Watchdog watchdog(10.0 * input_seconds);
+  Watchdog watchdog(10.0 * input_seconds, save);
   const auto start = std::chrono::steady_clock::now();
   unsigned long long n = 0;
   for (; n < max_inputs; ++n) {
     if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds) break;
     const std::string input = n < corpus.size() ? corpus[n] : mutate(corpus[rng() % corpus.size()], rng);
     std::string what;
-    watchdog.start(&input);
+    watchdog.start(&input, n);
     const auto t0 = std::chrono::steady_clock::now();
     const FuzzOutcome o = pcsim::testing::fuzz_case_input(input, &what);
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
