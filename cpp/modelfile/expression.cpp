@@ -478,6 +478,34 @@ class Descent {
                       " in magnitude (an exact power beyond it is no model's need and costs "
                       "unbounded time and memory), got " + numeric_text(exp));
       }
+      // GiNaC distributes the power over a product and merges exponents: ((40*y)^2)^2 is
+      // 2560000*y^4, so 42 nested squares would compute 40^(2^42). Check what it would make.
+      const long nn_total = static_cast<long>(std::ceil(GiNaC::abs(n).to_double()));
+      std::vector<ex> factors;
+      if (GiNaC::is_a<GiNaC::mul>(base)) {
+        for (std::size_t i = 0; i < base.nops(); ++i) factors.push_back(base.op(i));
+      } else {
+        factors.push_back(base);
+      }
+      long coefficient_bits = 0;
+      for (const ex& f : factors) {
+        if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1))) {
+          const GiNaC::numeric merged = GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(f.op(1)) * n);
+          if (merged > limits::exponent) {
+            error(at, "an exponent of at most " + std::to_string(limits::exponent) +
+                          " in magnitude, but this power makes one of " + numeric_text(merged));
+          }
+        }
+        if (GiNaC::is_a<GiNaC::numeric>(f) && !GiNaC::is_a<GiNaC::numeric>(base)) {
+          const GiNaC::numeric& c = GiNaC::ex_to<GiNaC::numeric>(f);
+          if (c.is_rational()) coefficient_bits += bit_length(c.numer()) + bit_length(c.denom());
+        }
+      }
+      if (coefficient_bits * nn_total > limits::power_bits) {
+        error(at, "an exact power of numbers of at most " + std::to_string(limits::power_bits) +
+                      " bits (a coefficient of this power would have about " +
+                      std::to_string(coefficient_bits * nn_total) + ")");
+      }
       if (GiNaC::is_a<GiNaC::numeric>(base)) {
         const GiNaC::numeric& b = GiNaC::ex_to<GiNaC::numeric>(base);
         if (b.is_rational() && !b.is_zero()) {

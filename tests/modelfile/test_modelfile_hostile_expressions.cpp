@@ -263,6 +263,18 @@ BOOST_AUTO_TEST_CASE(huge_exact_powers_are_refused_before_ginac_computes_them) {
   expect_refused(model("y*10^400"), "model.energy.potential", {"out of the range of double"});
   expect_refused(model("y*(1" + repeat("1", 900) + ")^1000"), "model.energy.potential", {"out of the range of double"});
   expect_refused(model("y*(1.0" + repeat("0", 900) + "1)^1000"), "model.energy.potential", {"bits"});
+  // Nested powers: GiNaC merges exponents and distributes them over a product's coefficient
+  // (found by fuzz_models: 42 nested pow(., 2) of 40*y computed 40^(2^42)).
+  std::string nested = "40*y";
+  for (int k = 0; k < 42; ++k) nested = "pow(" + nested + ", 2)";
+  expect_refused(model(nested), "model.energy.potential", {"at most"});
+  nested = "(3*y)";
+  for (int k = 0; k < 42; ++k) nested = "(" + nested + ")^2";
+  expect_refused(model(nested), "model.energy.potential", {"at most"});
+  expect_refused(model("((y^40)^40)"), "model.energy.potential", {"exponent of at most 1000", "1600"});
+  expect_refused(model("(123456789*y)^1000"), "model.energy.potential", {"out of the range of double"});
+  expect_refused(model("(1" + repeat("0", 300) + "*y)^1000"), "model.energy.potential", {"bits"});
+  loads(model("((2*y)^3)^3 + (y^10)^100"));
   // GiNaC's errors while it evaluates are input errors with the column.
   expect_refused(model("y + 1/0"), "model.energy.potential", {"cannot evaluate", "column 6"});
   expect_refused(model("y + log(0)"), "model.energy.potential", {"cannot evaluate", "column 5"});
