@@ -83,8 +83,11 @@ CheckResult check_model(const Model& model, const std::vector<std::string>& name
   }
   if (!q.allFinite() || !qd.allFinite() || !std::isfinite(t)) {
     out.issue = ModelIssue::non_finite;
-    out.message = "the state is not finite (coordinate " +
-                  coordinate_list(model, q + qd, INFINITY) + ")";
+    // q and qd separately: q + qd could hide an entry (inf + -inf is NaN, still listed, but
+    // the list is empty when only t is not finite).
+    const std::string list = coordinate_list(model, q.cwiseAbs() + qd.cwiseAbs(), INFINITY);
+    out.message = "the state is not finite (" +
+                  (list.empty() ? "the time t = " + std::to_string(t) : "coordinate " + list) + ")";
     return out;
   }
   out.issue = resolve_constraints(model, names, out.active, out.message);

@@ -5,7 +5,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <set>
+#include <unordered_map>
 #include <sstream>
 #include <unordered_set>
 
@@ -26,8 +28,7 @@ const std::vector<std::string>& allowed_functions() {
 }
 
 bool is_reserved_name(const std::string& name) {
-  static const std::set<std::string> reserved = {
-      "t", "pi", "I", "Pi", "Euler", "Catalan", "residual_pos", "residual_vel"};
+  static const std::set<std::string> reserved = {"t", "pi", "residual_pos", "residual_vel"};
   if (reserved.count(name)) return true;
   const auto& f = allowed_functions();
   return std::find(f.begin(), f.end(), name) != f.end();
@@ -86,30 +87,6 @@ ex heaviside_eval(const ex& a) {
 ex heaviside_evalf(const ex& a) { return heaviside_eval(a.evalf()); }
 ex heaviside_conjugate(const ex& a) { return heaviside(a.conjugate()); }
 ex heaviside_derivative(const ex&, unsigned) { return 0; }
-
-// GiNaC's parser tells a registered function (whose serial it finds in the table, encoded as
-// an odd "pointer" (serial << 1) | 1) from a reader function (an even pointer it calls). min and
-// max are registered functions, so they are entered the first way: a reader function of our own
-// could sit at an odd address in an unoptimized build and be taken for a serial.
-GiNaC::reader_func encoded_serial(unsigned serial) {
-  return reinterpret_cast<GiNaC::reader_func>((static_cast<std::uintptr_t>(serial) << 1) | 1u);
-}
-
-// The parser's function table: GiNaC's readers for the allowed functions, plus min and max.
-const GiNaC::prototype_table& reader_table() {
-  static const GiNaC::prototype_table table = [] {
-    GiNaC::prototype_table t;
-    const auto& all = GiNaC::get_default_reader();
-    for (const auto& [proto, reader] : all) {
-      const auto& f = allowed_functions();
-      if (std::find(f.begin(), f.end(), proto.first) != f.end()) t[proto] = reader;
-    }
-    t[{"min", 2}] = encoded_serial(min_serial());
-    t[{"max", 2}] = encoded_serial(max_serial());
-    return t;
-  }();
-  return table;
-}
 
 }  // namespace
 
@@ -186,15 +163,6 @@ bool is_call(const std::vector<Token>& tokens, std::size_t k) {
 
 std::string column_text(std::size_t begin) { return "column " + std::to_string(begin + 1); }
 
-// The first line of a GiNaC exception text, without GiNaC's location prefix.
-std::string ginac_reason(const std::string& what) {
-  std::string s = what.substr(0, what.find('\n'));
-  const std::string marker = "column 0: ";
-  const auto p = s.find(marker);
-  if (p != std::string::npos) s = s.substr(p + marker.size());
-  return s;
-}
-
 }  // namespace
 
 std::vector<std::string> names_used(const std::string& text) {
@@ -207,6 +175,41 @@ std::vector<std::string> names_used(const std::string& text) {
     }
   }
   return names;
+}
+
+// ---- limits before parsing -----------------------------------------------------------------
+
+std::string shortened(const std::string& text) {
+  if (text.size() <= 80) return text;
+  return text.substr(0, 60) + "... (" + std::to_string(text.size()) + " characters)";
+}
+
+void check_expression_size(const ExprText& e) {
+  if (e.text.size() > limits::expression_length) {
+    fail(e.where, e.key,
+         "an expression of at most " + std::to_string(limits::expression_length) +
+             " characters, got " + std::to_string(e.text.size()) + " (\"" + shortened(e.text) +
+             "\")");
+  }
+  // Parentheses and runs of signs, as the parser will nest them (a cheap upper bound of its
+  // depth that needs no tokens).
+  int depth = 0, signs = 0;
+  for (std::size_t i = 0; i < e.text.size(); ++i) {
+    const char c = e.text[i];
+    if (c == '(') ++depth;
+    if (c == ')') depth = std::max(0, depth - 1);
+    if (c == '-' || c == '+') {
+      ++signs;
+    } else if (!std::isspace(static_cast<unsigned char>(c))) {
+      signs = 0;
+    }
+    if (depth + signs > limits::nesting) {
+      fail(e.where, e.key,
+           "an expression nested at most " + std::to_string(limits::nesting) +
+               " levels deep (parentheses, calls and signs), got more at column " +
+               std::to_string(i + 1) + " of \"" + shortened(e.text) + "\"");
+    }
+  }
 }
 
 // ---- parsing -------------------------------------------------------------------------------
@@ -224,91 +227,442 @@ void ExpressionParser::define(const std::string& name, const ex& value) { table_
 
 double to_real(const ex& number, const ExprText& e) {
   if (!GiNaC::is_a<GiNaC::numeric>(number) || !number.info(GiNaC::info_flags::real)) {
-    fail(e.where, e.key, "the expression \"" + e.text + "\" is not a real number");
+    fail(e.where, e.key, "the expression \"" + shortened(e.text) + "\" is not a real number");
   }
-  const double v = GiNaC::ex_to<GiNaC::numeric>(number).to_double();
-  if (!std::isfinite(v)) {
-    fail(e.where, e.key, "a number in \"" + e.text + "\" is out of the range of double");
+  const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(number);
+  const double v = n.to_double();
+  // A nonzero number that would be 0 or subnormal as a double is refused as one that
+  // overflows is: 1e-400 and 1e400 alike are out of double's range.
+  if (!std::isfinite(v) || (!n.is_zero() && std::fabs(v) < std::numeric_limits<double>::min())) {
+    fail(e.where, e.key, "a number in \"" + shortened(e.text) +
+                             "\" is out of the range of double (" +
+                             (std::isfinite(v) ? "its magnitude is below 2.2e-308" : "above 1.8e308") +
+                             ")");
   }
   return v;
 }
 
 namespace {
 
-// Every leaf of a parsed expression is a known symbol, pi or a finite real number. Each node
-// is visited once (chained definitions share subexpressions: a walk of the tree would take
-// 2^k steps for k definitions that each use the previous one twice).
-struct ExHash {
-  std::size_t operator()(const ex& e) const { return e.gethash(); }
-};
-using ExSet = std::unordered_set<ex, ExHash, GiNaC::ex_is_equal>;
-void check_leaves(const ex& e, const ExprText& where, ExSet& seen) {
-  if (!seen.insert(e).second) return;
-  if (GiNaC::is_a<GiNaC::numeric>(e)) {
-    (void)to_real(e, where);
-    return;
-  }
-  if (GiNaC::is_a<GiNaC::constant>(e) && !e.is_equal(GiNaC::Pi)) {
-    fail(where.where, where.key, std::string("the constant ") + GiNaC::ex_to<GiNaC::basic>(e).class_name() +
-                                     " is not allowed in \"" + where.text + "\"");
-  }
-  for (std::size_t i = 0; i < e.nops(); ++i) check_leaves(e.op(i), where, seen);
-}
-void check_leaves(const ex& e, const ExprText& where) {
-  ExSet seen;
-  check_leaves(e, where, seen);
+// The functions and their arities.
+int arity_of(const std::string& f) {
+  if (f == "atan2" || f == "pow" || f == "min" || f == "max") return 2;
+  return 1;
 }
 
-// The text with each number token replaced by an exact rational in parentheses: mantissa
-// digits over a power of ten ("12.5e-3" -> "(125/10000)").
-// Returns "" if a number lies beyond double's range (|exponent| > 400 after the mantissa).
-std::string exact_numbers(const std::string& text, const std::vector<Token>& tokens) {
-  std::string out;
-  std::size_t pos = 0;
-  for (const Token& tk : tokens) {
-    if (tk.kind != Token::number) continue;
-    const std::string& t = tk.text;
-    const std::size_t epos = t.find_first_of("eE");
-    const std::string mant = t.substr(0, epos);
-    const std::string etext = epos == std::string::npos ? "" : t.substr(epos + 1);
-    if (etext.size() > 6) return "";
-    long exponent = etext.empty() || etext == "+" || etext == "-" ? 0 : std::stol(etext);
-    std::string digits;
+// An example call for messages: "atan2(y, x)".
+std::string example_call(const std::string& f) {
+  return arity_of(f) == 2 ? f + "(a, b)" : f + "(x)";
+}
+
+std::string numeric_text(const ex& n) {
+  std::ostringstream os;
+  os << n;
+  return shortened(os.str());
+}
+
+long bit_length(const GiNaC::numeric& n) {
+  return static_cast<long>(GiNaC::abs(n).int_length());
+}
+
+// Every node of a parsed expression (a DAG: shared nodes once, no recursion): its leaves are
+// known symbols, pi or finite real numbers in double's range; exponents are bounded (GiNaC
+// merges x^600*x^600 into x^1200 and (x^100)^100 into x^10000 on its own); the depth is
+// bounded, so that GiNaC's recursive algorithms never run out of stack.
+// A post-order walk of an expression without recursion: enter(e) on the way down (may throw),
+// leave(e, results of its operands) -> R on the way up. Nodes met again (shared subexpressions
+// such as inlined definitions) are not walked twice: the memo keeps them alive, so that no
+// freed node's address comes back for another one (op() of a product may build its operand
+// anew).
+template <class R, class Enter, class Leave>
+R post_order(const ex& root, Enter enter, Leave leave) {
+  std::unordered_map<const GiNaC::basic*, R> memo;
+  std::vector<ex> alive;
+  struct Frame {
+    ex e;
+    std::size_t next;
+    std::vector<R> results;
+  };
+  std::vector<Frame> stack;
+  stack.push_back({root, 0, {}});
+  R last{};
+  while (!stack.empty()) {
+    Frame& f = stack.back();
+    const GiNaC::basic* key = &GiNaC::ex_to<GiNaC::basic>(f.e);
+    if (f.next == 0 && f.results.empty()) {
+      const auto it = memo.find(key);
+      if (it != memo.end()) {
+        last = it->second;
+        stack.pop_back();
+        if (!stack.empty()) stack.back().results.push_back(last);
+        continue;
+      }
+      enter(f.e);
+    }
+    if (f.next < f.e.nops()) {
+      ex child = f.e.op(f.next++);
+      stack.push_back({std::move(child), 0, {}});
+      continue;
+    }
+    last = leave(f.e, f.results);
+    memo.emplace(key, last);
+    alive.push_back(f.e);
+    stack.pop_back();
+    if (!stack.empty()) stack.back().results.push_back(last);
+  }
+  return last;
+}
+
+// Every node of a parsed expression: its leaves are known symbols, pi or finite real numbers
+// in double's range; exponents are bounded (GiNaC merges x^600*x^600 into x^1200 and
+// (x^100)^100 into x^10000 on its own); the depth is bounded, so that GiNaC's recursive
+// algorithms never run out of stack.
+void check_tree(const ex& root, const ExprText& where) {
+  auto enter = [&](const ex& e) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) (void)to_real(e, where);
+    if (GiNaC::is_a<GiNaC::constant>(e) && !e.is_equal(GiNaC::Pi)) {
+      fail(where.where, where.key, "only the constant pi is allowed in \"" + shortened(where.text) + "\"");
+    }
+    if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+        GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(e.op(1))) > limits::exponent) {
+      fail(where.where, where.key,
+           "exponents of at most " + std::to_string(limits::exponent) + " in magnitude, but \"" +
+               shortened(where.text) + "\" makes a power of the exponent " + numeric_text(e.op(1)));
+    }
+  };
+  auto leave = [&](const ex&, const std::vector<int>& children) {
+    int d = 0;
+    for (int c : children) d = std::max(d, c);
+    if (d + 1 > limits::tree_depth) {
+      fail(where.where, where.key,
+           "an expression at most " + std::to_string(limits::tree_depth) +
+               " levels deep with its definitions inlined, but \"" + shortened(where.text) +
+               "\" is deeper (nest fewer definitions in one another)");
+    }
+    return d + 1;
+  };
+  (void)post_order<int>(root, enter, leave);
+}
+
+// A recursive-descent parser over the tokens, its depth bounded by limits::nesting.
+//   expression := term (('+' | '-') term)*
+//   term       := unary (('*' | '/') unary)*
+//   unary      := ('-' | '+') unary | power          (-x^2 is -(x^2), as in GiNaC)
+//   power      := primary ('^' exponent)?            (a^b^c is refused: ambiguous)
+//   exponent   := ('-' | '+') exponent | primary
+//   primary    := number | name | function '(' expression (',' expression)* ')' | '(' expression ')'
+class Descent {
+ public:
+  Descent(const std::vector<Token>& tokens, const ExprText& e, const GiNaC::symtab& table)
+      : tk_(tokens), e_(e), table_(table) {}
+
+  ex run() {
+    ex r = expression();
+    if (k_ < tk_.size()) {
+      error(tk_[k_].begin, "syntax error: expected an operator or the end of the expression, got '" +
+                               shortened(tk_[k_].text) + "'");
+    }
+    return r;
+  }
+
+ private:
+  const std::vector<Token>& tk_;
+  const ExprText& e_;
+  const GiNaC::symtab& table_;
+  std::size_t k_ = 0;
+  int depth_ = 0;
+
+  [[noreturn]] void error(std::size_t begin, const std::string& what) const {
+    fail(e_.where, e_.key,
+         what + " at column " + std::to_string(begin + 1) + " of \"" + shortened(e_.text) + "\"");
+  }
+  bool peek(const char* s) const {
+    return k_ < tk_.size() && tk_[k_].kind == Token::symbol && tk_[k_].text == s;
+  }
+  std::size_t here() const { return k_ < tk_.size() ? tk_[k_].begin : e_.text.size(); }
+  std::string got() const {
+    return k_ < tk_.size() ? "'" + shortened(tk_[k_].text) + "'" : std::string("the end of the expression");
+  }
+
+  struct Level {
+    Descent& d;
+    Level(Descent& parser, std::size_t begin) : d(parser) {
+      if (++d.depth_ > limits::nesting) {
+        d.error(begin, "an expression nested at most " + std::to_string(limits::nesting) +
+                           " levels deep (parentheses, calls and signs), got more");
+      }
+    }
+    ~Level() { --d.depth_; }
+  };
+
+  // GiNaC evaluates as it builds (1/0, log(0), tan(pi/2) throw): its reason at the column.
+  template <class F>
+  ex build(std::size_t begin, F&& f) const {
+    try {
+      return f();
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::exception& err) {
+      std::string what = err.what();
+      what = what.substr(0, what.find('\n'));
+      error(begin, "cannot evaluate this part (" + what + ")");
+    }
+  }
+
+  ex expression() {
+    ex r = term();
+    while (peek("+") || peek("-")) {
+      const bool minus = tk_[k_].text == "-";
+      const std::size_t at = tk_[k_++].begin;
+      const ex rhs = term();
+      r = build(at, [&] { return minus ? ex(r - rhs) : ex(r + rhs); });
+    }
+    return r;
+  }
+
+  ex term() {
+    ex r = unary();
+    while (peek("*") || peek("/")) {
+      const bool divide = tk_[k_].text == "/";
+      const std::size_t at = tk_[k_++].begin;
+      const ex rhs = unary();
+      // Refused here, not by GiNaC: it throws from inside the power it allocated for 1/0, and
+      // that object is never freed.
+      if (divide && rhs.is_zero()) error(at, "cannot evaluate this part (a division by zero)");
+      r = build(at, [&] { return divide ? ex(r / rhs) : ex(r * rhs); });
+    }
+    return r;
+  }
+
+  ex unary() {
+    if (peek("-") || peek("+")) {
+      const bool minus = tk_[k_].text == "-";
+      const Level level(*this, tk_[k_].begin);
+      ++k_;
+      const ex r = unary();
+      return minus ? ex(-r) : r;
+    }
+    return power_expr();
+  }
+
+  ex exponent() {
+    if (peek("-") || peek("+")) {
+      const bool minus = tk_[k_].text == "-";
+      const Level level(*this, tk_[k_].begin);
+      ++k_;
+      const ex r = exponent();
+      return minus ? ex(-r) : r;
+    }
+    return primary();
+  }
+
+  ex power_expr() {
+    const ex base = primary();
+    if (!peek("^")) return base;
+    const std::size_t at = tk_[k_++].begin;
+    const ex exp = exponent();
+    if (peek("^")) {
+      error(tk_[k_].begin, "syntax error: a^b^c needs parentheses, (a^b)^c or a^(b^c),");
+    }
+    return raise(base, exp, at);
+  }
+
+ public:
+  // base^exp, refused before GiNaC computes an exact power that is huge (10^(10^10) is 1.6 GB
+  // of digits) or a symbolic one of an exponent beyond limits::exponent.
+  ex raise(const ex& base, const ex& exp, std::size_t at) const {
+    if (GiNaC::is_a<GiNaC::numeric>(exp)) {
+      const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(exp);
+      if (!n.is_real()) error(at, "a real exponent");
+      if (GiNaC::abs(n) > limits::exponent) {
+        error(at, "an exponent of at most " + std::to_string(limits::exponent) +
+                      " in magnitude (an exact power beyond it is no model's need and costs "
+                      "unbounded time and memory), got " + numeric_text(exp));
+      }
+      // GiNaC distributes the power over a product and merges exponents: ((40*y)^2)^2 is
+      // 2560000*y^4, so 42 nested squares would compute 40^(2^42). Check what it would make.
+      const long nn_total = static_cast<long>(std::ceil(GiNaC::abs(n).to_double()));
+      std::vector<ex> factors;
+      if (GiNaC::is_a<GiNaC::mul>(base)) {
+        for (std::size_t i = 0; i < base.nops(); ++i) factors.push_back(base.op(i));
+      } else {
+        factors.push_back(base);
+      }
+      long coefficient_bits = 0;
+      for (const ex& f : factors) {
+        if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1))) {
+          const GiNaC::numeric merged = GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(f.op(1)) * n);
+          if (merged > limits::exponent) {
+            error(at, "an exponent of at most " + std::to_string(limits::exponent) +
+                          " in magnitude, but this power makes one of " + numeric_text(merged));
+          }
+        }
+        if (GiNaC::is_a<GiNaC::numeric>(f) && !GiNaC::is_a<GiNaC::numeric>(base)) {
+          const GiNaC::numeric& c = GiNaC::ex_to<GiNaC::numeric>(f);
+          if (c.is_rational()) coefficient_bits += bit_length(c.numer()) + bit_length(c.denom());
+        }
+      }
+      if (coefficient_bits * nn_total > limits::power_bits) {
+        error(at, "an exact power of numbers of at most " + std::to_string(limits::power_bits) +
+                      " bits (a coefficient of this power would have about " +
+                      std::to_string(coefficient_bits * nn_total) + ")");
+      }
+      if (GiNaC::is_a<GiNaC::numeric>(base)) {
+        const GiNaC::numeric& b = GiNaC::ex_to<GiNaC::numeric>(base);
+        if (b.is_rational() && !b.is_zero()) {
+          // |log2 b^n| >= |n| (|bits(num) - bits(den)| - 1): beyond double's range?
+          const long nn = static_cast<long>(std::ceil(GiNaC::abs(n).to_double()));
+          const long num = bit_length(b.numer()), den = bit_length(b.denom());
+          const long magnitude = std::labs(num - den) - 1;
+          if (magnitude > 0 && magnitude * nn > 1100) {
+            error(at, "a power of numbers out of the range of double (magnitudes 2.2e-308 to "
+                      "1.8e308)");
+          }
+          if ((num + den) * nn > limits::power_bits) {
+            error(at, "an exact power of numbers of at most " +
+                          std::to_string(limits::power_bits) + " bits (write the number as a "
+                          "decimal), got about " + std::to_string((num + den) * nn));
+          }
+        }
+      }
+    }
+    // 0^0 and 0^(-n) are refused here: GiNaC throws from inside the power it allocated, and
+    // that object is never freed.
+    if (base.is_zero() && GiNaC::is_a<GiNaC::numeric>(exp) &&
+        !(GiNaC::ex_to<GiNaC::numeric>(exp).real() > 0)) {
+      error(at, "cannot evaluate this part (0 to a power that is not positive)");
+    }
+    return build(at, [&] { return ex(GiNaC::pow(base, exp)); });
+  }
+
+ private:
+  ex number(const Token& t) const {
+    const std::string& s = t.text;
+    const std::size_t epos = s.find_first_of("eE");
+    const std::string mant = s.substr(0, epos);
+    const std::string etext = epos == std::string::npos ? "" : s.substr(epos + 1);
     const std::size_t dot = mant.find('.');
+    const bool mant_ok = mant.find_first_of("0123456789") != std::string::npos &&
+                         (dot == std::string::npos || mant.find('.', dot + 1) == std::string::npos);
+    const std::string edigits = !etext.empty() && (etext[0] == '+' || etext[0] == '-') ? etext.substr(1) : etext;
+    const bool exp_ok = epos == std::string::npos || !edigits.empty();
+    if (!mant_ok || !exp_ok) error(t.begin, "syntax error: bad number '" + shortened(s) + "'");
+    std::string digits;
     for (char ch : mant) {
       if (ch != '.') digits += ch;
     }
-    if (dot != std::string::npos) exponent -= static_cast<long>(mant.size() - dot - 1);
     const std::size_t nz = digits.find_first_not_of('0');
-    digits = nz == std::string::npos ? "0" : digits.substr(nz);
-    if (digits != "0" && (exponent > 400 || exponent < -400 - static_cast<long>(digits.size()))) {
-      return "";
+    if (nz == std::string::npos) return ex(0);
+    digits = digits.substr(nz);
+    const auto out_of_range = [&] {
+      error(t.begin, "a number in '" + shortened(s) +
+                         "' is out of the range of double (magnitudes 2.2e-308 to 1.8e308)");
+    };
+    if (edigits.size() > 6) out_of_range();
+    long exponent = edigits.empty() ? 0 : std::stol(edigits);
+    if (!etext.empty() && etext[0] == '-') exponent = -exponent;
+    if (dot != std::string::npos) exponent -= static_cast<long>(mant.size() - dot - 1);
+    // The value is digits * 10^exponent, of magnitude 10^(exponent + digits - 1).
+    const long magnitude = exponent + static_cast<long>(digits.size()) - 1;
+    if (magnitude > 308 || magnitude < -308) out_of_range();
+    if (digits.size() > 1000) {
+      error(t.begin, "a number of at most 1000 digits, got " + std::to_string(digits.size()));
     }
-    std::string rational;
-    if (digits == "0") {
-      rational = "0";
-    } else if (exponent >= 0) {
-      rational = digits + std::string(static_cast<std::size_t>(exponent), '0');
-    } else {
-      rational = digits + "/1" + std::string(static_cast<std::size_t>(-exponent), '0');
-    }
-    out += text.substr(pos, tk.begin - pos) + "(" + rational + ")";
-    pos = tk.end;
+    const GiNaC::numeric mantissa(digits.c_str());
+    const GiNaC::numeric scale = GiNaC::numeric(10).power(GiNaC::numeric(std::labs(exponent)));
+    const GiNaC::numeric value = exponent >= 0 ? mantissa * scale : mantissa / scale;
+    // At the edges (1.9e308, 1e-308 ~ subnormal) to_real decides exactly.
+    (void)to_real(value, ExprText{e_.where, e_.key, s});
+    return value;
   }
-  out += text.substr(pos);
-  return out;
-}
+
+  ex call(const Token& name) {
+    const std::size_t name_begin = name.begin;
+    const Level level(*this, name_begin);
+    ++k_;  // '('
+    std::vector<ex> args;
+    if (!peek(")")) {
+      args.push_back(expression());
+      while (peek(",")) {
+        ++k_;
+        args.push_back(expression());
+      }
+    }
+    if (!peek(")")) {
+      error(here(), "syntax error: expected ',' or ')' in the call of '" + name.text + "', got " + got());
+    }
+    ++k_;
+    const int n = arity_of(name.text);
+    if (static_cast<int>(args.size()) != n) {
+      error(name_begin, "the function '" + name.text + "' takes " + std::to_string(n) +
+                            (n == 1 ? " argument" : " arguments") + ", as in " +
+                            example_call(name.text) + ", got " + std::to_string(args.size()));
+    }
+    const std::string& f = name.text;
+    if (f == "pow") return raise(args[0], args[1], name_begin);
+    return build(name_begin, [&]() -> ex {
+      const ex& a = args[0];
+      if (f == "sin") return GiNaC::sin(a);
+      if (f == "cos") return GiNaC::cos(a);
+      if (f == "tan") return GiNaC::tan(a);
+      if (f == "asin") return GiNaC::asin(a);
+      if (f == "acos") return GiNaC::acos(a);
+      if (f == "atan") return GiNaC::atan(a);
+      if (f == "atan2") return GiNaC::atan2(a, args[1]);
+      if (f == "sinh") return GiNaC::sinh(a);
+      if (f == "cosh") return GiNaC::cosh(a);
+      if (f == "tanh") return GiNaC::tanh(a);
+      if (f == "exp") return GiNaC::exp(a);
+      if (f == "log") return GiNaC::log(a);
+      if (f == "sqrt") return GiNaC::sqrt(a);
+      if (f == "abs") return GiNaC::abs(a);
+      if (f == "min") return min_of(a, args[1]);
+      if (f == "max") return max_of(a, args[1]);
+      throw std::logic_error("no builder for the function '" + f + "'");
+    });
+  }
+
+  ex primary() {
+    if (k_ >= tk_.size()) error(here(), "syntax error: expected an operand, got the end of the expression");
+    const Token& t = tk_[k_];
+    if (t.kind == Token::number) {
+      ++k_;
+      return number(t);
+    }
+    if (t.kind == Token::identifier) {
+      if (k_ + 1 < tk_.size() && tk_[k_ + 1].kind == Token::symbol && tk_[k_ + 1].text == "(") {
+        ++k_;
+        return call(t);
+      }
+      ++k_;
+      const auto it = table_.find(t.text);
+      if (it == table_.end()) error(t.begin, "unknown name '" + shortened(t.text) + "'");
+      return it->second;
+    }
+    if (t.text == "(") {
+      const Level level(*this, t.begin);
+      ++k_;
+      const ex r = expression();
+      if (!peek(")")) error(here(), "syntax error: expected ')', got " + got());
+      ++k_;
+      return r;
+    }
+    error(t.begin, "syntax error: expected an operand (a number, a name, a call or '('), got '" +
+                       t.text + "'");
+  }
+};
 
 }  // namespace
 
 ex ExpressionParser::parse(const ExprText& e) const {
+  check_expression_size(e);
   const auto tokens = scan(e.text);
   auto at_column = [&](std::size_t begin, const std::string& what) {
-    fail(e.where, e.key, what + " at " + column_text(begin) + " of \"" + e.text + "\"");
+    fail(e.where, e.key, what + " at " + column_text(begin) + " of \"" + shortened(e.text) + "\"");
   };
   if (tokens.empty()) fail(e.where, e.key, "an expression, got an empty string");
-  // Names and calls first, so that every unknown name is reported with its column (GiNaC's
-  // strict parser says only that a symbol was not found).
+  // Names and calls first, so that every unknown name is reported with its column in the
+  // order of the text (before a syntax error further on).
   const auto& functions = allowed_functions();
   for (std::size_t k = 0; k < tokens.size(); ++k) {
     const Token& tk = tokens[k];
@@ -320,11 +674,12 @@ ex ExpressionParser::parse(const ExprText& e) const {
         if (table_.count(tk.text)) at_column(tk.begin, "'" + tk.text + "' is not a function");
         std::string list;
         for (const auto& f : functions) list += (list.empty() ? "" : " ") + f;
-        at_column(tk.begin, "unknown function '" + tk.text + "' (functions: " + list + ")");
+        at_column(tk.begin, "unknown function '" + shortened(tk.text) + "' (functions: " + list + ")");
       }
     } else if (!table_.count(tk.text)) {
       if (known_function) {
-        at_column(tk.begin, "the function '" + tk.text + "' needs arguments in parentheses");
+        at_column(tk.begin, "the function '" + tk.text + "' needs arguments in parentheses, as in " +
+                                example_call(tk.text));
       }
       std::string hint;
       for (const Hint& h : hints_) {
@@ -342,74 +697,56 @@ ex ExpressionParser::parse(const ExprText& e) const {
           break;
         }
       }
-      at_column(tk.begin, "unknown name '" + tk.text + "'" + hint);
+      at_column(tk.begin, "unknown name '" + shortened(tk.text) + "'" + hint);
     }
   }
-  // Numbers beyond double's range are rejected before GiNaC sees them (CLN would build
-  // 1e9999999999 digit by digit).
-  const std::string exact = exact_numbers(e.text, tokens);
-  if (exact.empty()) {
-    fail(e.where, e.key, "a number in \"" + e.text + "\" is out of the range of double");
-  }
-  std::istringstream in(e.text);
-  ex result;
-  try {
-    GiNaC::parser reader(table_, /*strict=*/true, reader_table());
-    result = reader(in);
-  } catch (const std::exception& err) {
-    // Where the lexer stopped: one character past the token it last read (its look-ahead),
-    // or the end of the text. The offending token is the last one ending before that.
-    // At the end of the text the look-ahead failed (eof set) and the last token is the one.
-    const bool at_eof = in.eof();
-    in.clear();
-    const std::streamoff pos_raw = in.tellg();
-    const std::size_t len = e.text.size();
-    const std::size_t pos = pos_raw < 0 ? len : static_cast<std::size_t>(pos_raw);
-    const Token* last = nullptr;
-    for (const Token& tk : tokens) {
-      if (at_eof || tk.end < pos) last = &tk;
-    }
-    const std::string what = err.what();
-    std::string reason = ginac_reason(what);
-    if (what.find("power should have exactly 2 operands") != std::string::npos) {
-      // GiNaC cannot parse a^b^c; say so at the second '^'.
-      std::size_t col = len;
-      int seen = 0;
-      for (const Token& tk : tokens) {
-        if (tk.text == "^" && ++seen == 2) {
-          col = tk.begin;
-          break;
-        }
-      }
-      at_column(col, "syntax error: a^b^c needs parentheses, (a^b)^c or a^(b^c),");
-    }
-    if (what.find("Illegal number syntax") != std::string::npos) {
-      const Token* number = nullptr;
-      for (const Token& tk : tokens) {
-        if (tk.kind == Token::number && (at_eof || tk.end < pos)) number = &tk;
-      }
-      at_column(number ? number->begin : 0,
-                "syntax error: bad number '" + (number ? number->text : std::string()) + "'");
-    }
-    if (reason.compare(0, 13, "expected EOF,") == 0) {
-      reason = "expected an operator or the end of the expression," + reason.substr(13);
-    }
-    if (reason.find("got: EOF") != std::string::npos) {
-      reason.replace(reason.find("got: EOF"), 8, "got the end of the expression");
-      at_column(len, "syntax error: " + reason);
-    }
-    at_column(last ? last->begin : 0, "syntax error: " + reason);
-  }
-  // Parse again with every number written as an exact rational ("0.1" as 1/10): GiNaC would
-  // keep "0.1" as a 17-digit float, and float coefficients combined in GiNaC's (address-
-  // dependent) term order could round differently from run to run; exact ones cannot.
-  if (exact != e.text) {
-    std::istringstream in2(exact);
-    GiNaC::parser reader(table_, /*strict=*/true, reader_table());
-    result = reader(in2);
-  }
-  check_leaves(result, e);
+  // Every number is read as an exact rational ("0.1" as 1/10): a float coefficient combined
+  // in GiNaC's (address-dependent) term order could round differently from run to run.
+  const ex result = Descent(tokens, e, table_).run();
+  check_tree(result, e);
   return result;
+}
+
+// ---- polynomial use of symbols ---------------------------------------------------------------
+
+void check_polynomial_in(const ex& root, const std::vector<ex>& symbols, const ExprText& where,
+                         const std::string& what) {
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  auto refuse = [&](std::size_t s, const ex& part, const std::string& how) {
+    std::ostringstream os;
+    os << part;
+    fail(where.where, where.key,
+         what + " must be quadratic in the velocities (a polynomial in them of degree <= 2), "
+                "but " + GiNaC::ex_to<GiNaC::symbol>(symbols[s]).get_name() + " appears " + how +
+             " " + shortened(os.str()));
+  };
+  // For each node: a velocity it uses (or none). Velocities may be used only in sums,
+  // products and powers of natural exponents.
+  auto leave = [&](const ex& e, const std::vector<std::size_t>& child) -> std::size_t {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      for (std::size_t s = 0; s < symbols.size(); ++s) {
+        if (e.is_equal(symbols[s])) return s;
+      }
+      return none;
+    }
+    std::size_t found = none;
+    for (std::size_t c : child) {
+      if (found == none) found = c;
+    }
+    if (found == none || GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) return found;
+    if (GiNaC::is_a<GiNaC::power>(e)) {
+      const ex& x = e.op(1);
+      if (child.size() == 2 && child[1] != none) refuse(child[1], e, "in the exponent of");
+      if (!x.info(GiNaC::info_flags::nonnegint)) {
+        refuse(found, e, x.info(GiNaC::info_flags::negint) ? "in the denominator of"
+                                                            : "under the non-integer power");
+      }
+      return found;
+    }
+    refuse(found, e, GiNaC::is_a<GiNaC::function>(e) ? "inside the function" : "inside");
+    return found;  // not reached
+  };
+  (void)post_order<std::size_t>(root, [](const ex&) {}, leave);
 }
 
 }  // namespace pcsim::modelfile::detail

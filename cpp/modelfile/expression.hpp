@@ -23,9 +23,40 @@ std::mutex& ginac_mutex();
 /// The functions an expression may call, as the contract lists them.
 const std::vector<std::string>& allowed_functions();
 
-/// True if `name` may not be declared: a function name, t, pi, GiNaC's literals (I, Pi,
-/// Euler, Catalan), or a timeseries column name (residual_pos, residual_vel).
+/// True if `name` may not be declared: a function name, t, pi, or a timeseries column name
+/// (residual_pos, residual_vel). GiNaC's own names (I, Pi, Euler, Catalan, D, ...) are not
+/// reserved: pcsim's parser reads every other identifier as the user's name.
 bool is_reserved_name(const std::string& name);
+
+/// The limits of the model-file format, checked while the file is read, before any symbolic
+/// work (each one an InputError naming the file and the key). Reasons in the README's limits
+/// table.
+namespace limits {
+inline constexpr std::size_t expression_length = 100000;  ///< characters of one expression
+inline constexpr int nesting = 200;             ///< parentheses, signs and calls, one in another
+inline constexpr int tree_depth = 1000;         ///< of an expression with definitions inlined
+inline constexpr long exponent = 1000;          ///< |n| of a numeric exponent
+inline constexpr long power_bits = 65536;       ///< bits of an exact power of numbers
+inline constexpr std::size_t name_length = 128;  ///< characters of a declared name
+inline constexpr std::size_t coordinates = 256;
+inline constexpr std::size_t parameters = 10000;
+inline constexpr std::size_t definitions = 2000;
+inline constexpr std::size_t constraints = 1000;
+inline constexpr std::size_t outputs = 1000;
+}  // namespace limits
+
+/// The text shortened for a message: at most 80 characters, then "..." and the length.
+std::string shortened(const std::string& text);
+
+/// Checks an expression's size before it is parsed: its length and the nesting of its
+/// parentheses and signs (a text cheap to refuse never reaches GiNaC).
+void check_expression_size(const ExprText& e);
+
+/// Refuses an expression in which one of `symbols` appears other than polynomially (inside a
+/// function such as abs, min, sqrt or sin, in a denominator, in an exponent, or under a
+/// non-integer power): "<what> must be <what_needed>, but <symbol> appears inside ...".
+void check_polynomial_in(const GiNaC::ex& e, const std::vector<GiNaC::ex>& symbols,
+                         const ExprText& where, const std::string& what);
 
 /// True for letters, digits and '_', not starting with a digit, not empty.
 bool is_identifier(const std::string& name);
@@ -66,8 +97,10 @@ class ExpressionParser {
   };
   void add_hint(Hint hint) { hints_.push_back(std::move(hint)); }
 
-  /// Parses e.text (which must not be empty). Throws InputError "<where>: key '<key>':
-  /// syntax error at column C: ..." or "unknown name 'z' at column C" or the like.
+  /// Parses e.text (which must not be empty) with pcsim's own parser (bounded depth, arities
+  /// checked, numbers exact and in double's range, exponents bounded). Throws InputError
+  /// "<where>: key '<key>': syntax error at column C: ..." or "unknown name 'z' at column C"
+  /// or the like.
   GiNaC::ex parse(const ExprText& e) const;
 
  private:

@@ -130,6 +130,7 @@ class Reader {
       if (e.text.find_first_not_of(" \t\r\n") == std::string::npos) {
         fail(where_, k, "an expression, got an empty string");
       }
+      detail::check_expression_size(e);
     } else if (node.is_number()) {
       e.text = number_text(number(node, k));
     } else {
@@ -140,12 +141,26 @@ class Reader {
 
   /// A declared name: an identifier that is not reserved.
   void name(const std::string& n, const std::string& k) const {
+    if (n.size() > detail::limits::name_length) {
+      fail(where_, detail::shortened(k), "a name of at most " + std::to_string(detail::limits::name_length) +
+                          " characters, got " + std::to_string(n.size()) + " ('" +
+                          detail::shortened(n) + "')");
+    }
     if (!detail::is_identifier(n)) {
-      fail(where_, k, "a name of letters, digits and '_' not starting with a digit, got '" + n + "'");
+      fail(where_, k, "a name of letters, digits and '_' not starting with a digit, got '" +
+                          detail::shortened(n) + "'");
     }
     if (detail::is_reserved_name(n)) {
-      fail(where_, k, "'" + n + "' is reserved (a function name, t, pi, I, Pi, Euler, Catalan, "
-                      "residual_pos or residual_vel); choose another name");
+      fail(where_, k, "'" + n + "' is reserved (a function name, t, pi, residual_pos or "
+                      "residual_vel); choose another name");
+    }
+  }
+
+  /// At most `limit` entries of a list or table (checked before any is read).
+  void count(std::size_t n, std::size_t limit, const std::string& k, const std::string& what) const {
+    if (n > limit) {
+      fail(where_, k, "at most " + std::to_string(limit) + " " + what + ", got " +
+                          std::to_string(n));
     }
   }
 
@@ -326,6 +341,8 @@ ModelSource detail::read_model_source(const toml::table& model,
   if (!ca || ca->empty()) {
     fail(src.where, r.key("coordinates"), "a non-empty list of names, e.g. [\"x\", \"y\"]");
   }
+  r.count(ca->size(), detail::limits::coordinates, r.key("coordinates"),
+          "coordinates (the mass matrix has n^2 symbolic entries and each step solves it)");
   for (const auto& c : *ca) {
     const std::string name = r.string(c, r.key("coordinates"), "a list of names (strings)");
     r.name(name, r.key("coordinates"));
@@ -335,6 +352,7 @@ ModelSource detail::read_model_source(const toml::table& model,
   // Parameters.
   if (auto n = model.get("parameters")) {
     const toml::table& t = r.table(*n, r.key("parameters"));
+    r.count(t.size(), detail::limits::parameters, r.key("parameters"), "parameters");
     for (const auto& [name, node] : in_file_order(t)) {
       const std::string k = r.key("parameters." + name);
       r.name(name, k);
@@ -345,6 +363,7 @@ ModelSource detail::read_model_source(const toml::table& model,
   // Definitions.
   if (auto n = model.get("define")) {
     const toml::table& t = r.table(*n, r.key("define"));
+    r.count(t.size(), detail::limits::definitions, r.key("define"), "definitions");
     for (const auto& [name, node] : in_file_order(t)) {
       const std::string k = r.key("define." + name);
       r.name(name, k);
@@ -389,6 +408,7 @@ ModelSource detail::read_model_source(const toml::table& model,
       fail(src.where, r.key("constraint"),
            "an array of tables, written [[" + r.key("constraint") + "]]");
     }
+    r.count(arr->size(), detail::limits::constraints, r.key("constraint"), "constraints");
     int index = 0;
     for (const auto& node : *arr) {
       ++index;
@@ -450,6 +470,7 @@ ModelSource detail::read_model_source(const toml::table& model,
   // Outputs.
   if (auto n = model.get("outputs")) {
     const toml::table& t = r.table(*n, r.key("outputs"));
+    r.count(t.size(), detail::limits::outputs, r.key("outputs"), "outputs");
     for (const auto& [name, node] : in_file_order(t)) {
       const std::string k = r.key("outputs." + name);
       r.name(name, k);
@@ -658,6 +679,9 @@ std::shared_ptr<const ModelDescription> ModelDescription::with_constraints(
     if (e.holonomic.find_first_not_of(" \t\r\n") == std::string::npos) {
       fail(e.origin, key, "an expression Phi(q, t) (the constraint Phi = 0), got an empty string");
     }
+    detail::check_expression_size(sc.holonomic);
+    r.count(src->constraints.size() + 1, detail::limits::constraints, key,
+            "constraints with the added ones");
     src->constraints.push_back(std::move(sc));
   }
   check_unique_names(*src);

@@ -393,6 +393,7 @@ SymbolicModel derive(const ModelSource& src) {
 
   // Energies and forces.
   m.T = base.parse(src.kinetic);
+  detail::check_polynomial_in(m.T, m.qd, src.kinetic, "the kinetic energy T");
   m.V = src.potential.text.empty() ? ex(0) : base.parse(src.potential);
   no_velocities(m.V, src.potential, "the potential energy V(q, t)");
   m.F = src.dissipation.text.empty() ? ex(0) : base.parse(src.dissipation);

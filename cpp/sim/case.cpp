@@ -3,13 +3,13 @@
 #include "sim/case.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <cstdlib>
 #include <fstream>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -288,9 +288,15 @@ const KeySpec* find(const std::vector<KeySpec>& keys, const std::string& dotted)
   return nullptr;
 }
 
+// A loop, not std::regex: libstdc++'s matcher recurses once per character and overflowed the
+// stack on a 50,000-character constraint name.
 bool is_identifier(const std::string& s) {
-  static const std::regex id("[A-Za-z_][A-Za-z0-9_]*");
-  return std::regex_match(s, id);
+  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (!((c < 128 && std::isalnum(c)) || ch == '_')) return false;
+  }
+  return true;
 }
 
 // The table that holds `section` (dotted, e.g. "constraints.added"), created if asked.
@@ -558,10 +564,16 @@ void check_model_accepts(const fs::path& file, const Case& c) {
     c.model->instantiate(s.parameters, s.q0, 0.0, c.table, "");
   } catch (const InputError& e) {
     const std::string msg = e.what();
-    static const std::regex param("parameter '([A-Za-z_][A-Za-z0-9_]*)'");
-    std::smatch m;
-    if (std::regex_search(msg, m, param))
-      throw InputError(where(file) + ": key 'parameters." + m[1].str() + "': " + msg);
+    // "parameter 'NAME'" in the message names the key (a search by hand: std::regex
+    // recurses per character and a message may quote a long name).
+    const std::string marker = "parameter '";
+    for (std::size_t p = msg.find(marker); p != std::string::npos; p = msg.find(marker, p + 1)) {
+      const std::size_t b = p + marker.size();
+      const std::size_t end = msg.find('\'', b);
+      const std::string name = end == std::string::npos ? std::string() : msg.substr(b, end - b);
+      if (is_identifier(name))
+        throw InputError(where(file) + ": key 'parameters." + name + "': " + msg);
+    }
     throw InputError(where(file) + ": " + msg);
   }
 }
@@ -656,7 +668,7 @@ std::string derived_case_name(const std::string& base, const std::string& suffix
 Override parse_override(const std::string& text) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError("--set '" + text + "': expected KEY=VALUE, e.g. parameters.omega=300");
+    throw InputError("--set '" + text.substr(0, 200) + "': expected KEY=VALUE, e.g. parameters.omega=300");
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
@@ -665,8 +677,11 @@ std::vector<Override> command_line_overrides(const std::vector<std::string>& set
   std::vector<Override> overrides;
   for (const auto& s : sets) overrides.push_back(parse_override(s));
   for (const auto& s : added_constraints) {
-    const Override o = parse_override(s);
-    overrides.emplace_back("constraints.added." + o.first, o.second);
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("--constraint '" + s.substr(0, 200) +
+                       "': expected NAME=EXPR, e.g. --constraint 'hold=s - 0.4'");
+    overrides.emplace_back("constraints.added." + s.substr(0, eq), s.substr(eq + 1));
   }
   return overrides;
 }
