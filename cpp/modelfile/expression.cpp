@@ -9,7 +9,6 @@
 #include <set>
 #include <unordered_map>
 #include <sstream>
-#include <unordered_set>
 
 namespace pcsim::modelfile::detail {
 

@@ -310,6 +310,38 @@ ex along_motion(Calculus& calc, const ex& w, const SymbolicModel& m) {
 
 }  // namespace
 
+// T uses the velocities only in sums, products and natural powers (detail::check_polynomial_in),
+// also where they reach T through definitions, which stay symbols: every definition that T uses,
+// directly or through other definitions, is checked the same way, the definitions that use a
+// velocity counting as velocities. (A definition's value is the text its user wrote, so this
+// walks each one once.)
+static void check_kinetic_structure(Calculus& calc, const SymbolicModel& m, const ExprText& kinetic) {
+  std::unordered_map<std::string, ex> value_of;
+  std::vector<ex> velocities = m.qd;
+  for (const auto& [symbol, value] : m.definitions) {
+    value_of.emplace(symbol_name(symbol), value);
+    if (first_used(calc, value, m.qd) >= 0) velocities.push_back(symbol);
+  }
+  detail::check_polynomial_in(m.T, velocities, kinetic, "the kinetic energy T");
+  std::unordered_set<std::string> seen;
+  std::vector<ex> work{m.T};
+  while (!work.empty()) {
+    const ex e = work.back();
+    work.pop_back();
+    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+      const std::string name = symbol_name(*it);
+      const auto def = value_of.find(name);
+      if (def == value_of.end() || !seen.insert(name).second) continue;
+      if (first_used(calc, def->second, m.qd) >= 0) {
+        detail::check_polynomial_in(def->second, velocities, kinetic,
+                                    "the kinetic energy T (through the definition '" + name + "')");
+      }
+      work.push_back(def->second);
+    }
+  }
+}
+
 SymbolicModel derive(const ModelSource& src) {
   SymbolicModel m;
   Calculus calc;
@@ -393,7 +425,7 @@ SymbolicModel derive(const ModelSource& src) {
 
   // Energies and forces.
   m.T = base.parse(src.kinetic);
-  detail::check_polynomial_in(m.T, m.qd, src.kinetic, "the kinetic energy T");
+  check_kinetic_structure(calc, m, src.kinetic);
   m.V = src.potential.text.empty() ? ex(0) : base.parse(src.potential);
   no_velocities(m.V, src.potential, "the potential energy V(q, t)");
   m.F = src.dissipation.text.empty() ? ex(0) : base.parse(src.dissipation);
