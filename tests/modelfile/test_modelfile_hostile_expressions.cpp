@@ -218,12 +218,12 @@ BOOST_AUTO_TEST_CASE(sizes_and_counts_are_bounded_before_any_work) {
   loads(model("m*9.81*y + 0*" + ok, "0.5*m*(x_d^2 + y_d^2)", ok + " = 1.0\n"));
   expect_refused(model("m*9.81*y", "0.5*m*(x_d^2 + y_d^2)", long_name + " = 1.0\n"),
                  detail::shortened("model.parameters." + long_name), {"at most 128 characters"});
-  // 10,000 coordinates: refused at once; 257 too; 20 load.
+  // 10,000 coordinates: refused at once; one above the limit too; 20 load.
   for (std::size_t n : {std::size_t{10000}, lim::coordinates + 1}) {
     std::string coords;
     for (std::size_t i = 0; i < n; ++i) coords += (i ? ", \"q" : "\"q") + std::to_string(i) + "\"";
     expect_refused("[model]\ncoordinates = [" + coords + "]\n[model.energy]\nkinetic = \"q0_d^2\"\n",
-                   "model.coordinates", {"at most 256 coordinates", "got " + std::to_string(n)});
+                   "model.coordinates", {"at most " + std::to_string(lim::coordinates) + " coordinates", "got " + std::to_string(n)});
   }
   {
     std::string coords, t;
