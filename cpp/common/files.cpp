@@ -266,15 +266,24 @@ DirectoryLock::~DirectoryLock() {
   ::close(fd_);
 }
 
-OwnedDirectory::OwnedDirectory(const fs::path& dir, const std::string& command) : dir_(normalized(dir)) {
-  if (const std::string why = unusable_reason(dir_); !why.empty())
-    throw InputError("output directory " + dir_.string() + " cannot be used: " + why +
+namespace {
+// What every command's output directory starts with: a usable path, its parent made, and the
+// lock beside it taken.
+std::unique_ptr<DirectoryLock> lock_output_directory(const fs::path& dir) {
+  if (const std::string why = unusable_reason(dir); !why.empty())
+    throw InputError("output directory " + dir.string() + " cannot be used: " + why +
                      "; give pcsim a directory of its own with --out");
   std::error_code ec;
-  const fs::path parent = dir_.has_parent_path() ? dir_.parent_path() : fs::path(".");
+  const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
   fs::create_directories(parent, ec);
   if (ec) throw IoError("cannot create the output directory " + parent.string() + ": " + ec.message());
-  lock_ = std::make_unique<DirectoryLock>(dir_);
+  return std::make_unique<DirectoryLock>(dir);
+}
+}  // namespace
+
+OwnedDirectory::OwnedDirectory(const fs::path& dir, const std::string& command) : dir_(normalized(dir)) {
+  lock_ = lock_output_directory(dir_);
+  std::error_code ec;
   check_owner(dir_, command, false);
   fs::create_directory(dir_, ec);
   if (ec) throw IoError("cannot create the output directory " + dir_.string() + ": " + ec.message());
@@ -297,14 +306,9 @@ void write_file_atomically(const fs::path& file, const std::string& content, boo
 
 OutputDirectory::OutputDirectory(fs::path dir, const std::string& command)
     : dir_(normalized(std::move(dir))) {
-  if (const std::string why = unusable_reason(dir_); !why.empty())
-    throw InputError("output directory " + dir_.string() + " cannot be used: " + why +
-                     "; give pcsim a directory of its own with --out");
+  lock_ = lock_output_directory(dir_);
   std::error_code ec;
   const fs::path parent = dir_.has_parent_path() ? dir_.parent_path() : fs::path(".");
-  fs::create_directories(parent, ec);
-  if (ec) throw IoError("cannot create the output directory " + parent.string() + ": " + ec.message());
-  lock_ = std::make_unique<DirectoryLock>(dir_);
   check_owner(dir_, command, true);
   remove_stale_staging(parent, dir_.filename().string());
   staging_ = parent / ("." + dir_.filename().string() + ".staging-" + unique_suffix());
