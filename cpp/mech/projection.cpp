@@ -102,4 +102,16 @@ ModelIssue project_state(const Model& model, const std::vector<int>& active, dou
   return ModelIssue::none;
 }
 
+bool row_within_projection_tol(const Eigen::Ref<const Eigen::RowVectorXd>& g, double g0,
+                               bool position, double pos_residual, double t,
+                               const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double tol) {
+  const Eigen::RowVectorXd ag = g.cwiseAbs();
+  const double vel = std::abs(g.dot(qd) + g0);
+  const double vel_scale = ag.dot(qd.cwiseAbs()) + std::abs(g0);
+  if (!(vel <= tol * (1.0 + vel_scale))) return false;
+  if (!position) return true;
+  const double pos_scale = ag.dot(q.cwiseAbs()) + std::abs(g0) * std::abs(t);
+  return std::abs(pos_residual) <= tol * (1.0 + pos_scale);
+}
+
 }  // namespace pcsim::mech

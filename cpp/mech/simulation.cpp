@@ -160,11 +160,20 @@ class Run {
   // preserves constraints that are linear in q exactly, so for constant rows this is the rule.
   bool consistent_enough(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (legacy_) return false;  // the pre-issue-14 path projects after every step
-    double pos, vel;
-    residuals(t, q, qd, pos, vel);
-    const double gmax = s_ > 0 ? pw_.g.cwiseAbs().maxCoeff() : 0.0;
-    return pos <= opt_.projection_tol * (1.0 + q.lpNorm<Eigen::Infinity>()) &&
-           vel <= opt_.projection_tol * (1.0 + gmax * qd.lpNorm<Eigen::Infinity>());
+    // Row by row, each to its own scale (row_within_projection_tol, shared with switching).
+    pw_.g.resize(s_, n_);
+    pw_.g0.resize(s_);
+    pw_.gamma.resize(s_);
+    model_.constraint_rows(active_, t, q, qd, pw_.g, pw_.g0, pw_.gamma);
+    for (int k = 0; k < s_; ++k) {
+      const int i = active_[k];
+      const bool position = model_.constraints()[i].kind == ConstraintKind::holonomic;
+      const double phi = position ? model_.position_residual(i, t, q) : 0.0;
+      if (!row_within_projection_tol(pw_.g.row(k), pw_.g0(k), position, phi, t, q, qd,
+                                     opt_.projection_tol))
+        return false;
+    }
+    return true;
   }
 
   // Called at t0 (step == nullptr) and after every accepted step.

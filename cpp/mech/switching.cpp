@@ -1625,16 +1625,16 @@ class Run {
   // explicit pair keeps its last evaluation); the pre-issue-14 path projects after every step.
   bool consistent_enough(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (opt_.linear_algebra == RadauOptions::LinearAlgebra::lapack) return false;
-    double pos = 0.0, vel = 0.0, gmax = 0.0;
+    // Row by row, each to its own scale (row_within_projection_tol, shared with simulate()).
     for (int i : layout_.imposed) {
       const Row r = eng_.row(i, t, q, qd);
-      vel = std::max(vel, std::abs(r.value(qd)));
-      gmax = std::max(gmax, r.g.cwiseAbs().maxCoeff());
-      if (model_.constraints()[i].kind == ConstraintKind::holonomic && eng_.position_level(i))
-        pos = std::max(pos, std::abs(model_.position_residual(i, t, q)));
+      const bool position =
+          model_.constraints()[i].kind == ConstraintKind::holonomic && eng_.position_level(i);
+      const double phi = position ? model_.position_residual(i, t, q) : 0.0;
+      if (!row_within_projection_tol(r.g, r.g0, position, phi, t, q, qd, opt_.projection_tol))
+        return false;
     }
-    return pos <= opt_.projection_tol * (1.0 + q.lpNorm<Eigen::Infinity>()) &&
-           vel <= opt_.projection_tol * (1.0 + gmax * qd.lpNorm<Eigen::Infinity>());
+    return true;
   }
 
   /// The deepest penetration of every contact (any mode), into the run's and window's totals
