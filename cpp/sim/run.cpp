@@ -452,11 +452,11 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
     writer->finish();
   }
   if (complete && !unreliable.empty())
-    throw NumericalError("case '" + c.name + "': the result is not reliable: " + unreliable +
-                             (out ? "; wrote it to " + options.out_dir->string() +
-                                        " with \"accuracy\": {\"reliable\": false}"
-                                  : std::string()),
-                         res.t);
+    throw UnreliableResult("case '" + c.name + "': the result is not reliable: " + unreliable +
+                               (out ? "; wrote it to " + options.out_dir->string() +
+                                          " with \"accuracy\": {\"reliable\": false}"
+                                    : std::string()),
+                           res.t, j);
   if (!complete) {
     const std::string kept = out ? "; wrote what was computed up to then to " +
                                        options.out_dir->string() + ", marked \"complete\": false"

@@ -204,6 +204,22 @@ BOOST_AUTO_TEST_CASE(tolerances_that_cannot_give_the_digits_are_refused_or_flagg
   BOOST_TEST(has(r.out, "solver.atol"), r.out);
   const auto s = summary(d.path / "u");
   BOOST_TEST(s["accuracy"]["reliable"].get<bool>() == false);
+  // The report is still printed, with the UNRELIABLE line naming solver.atol and a value that
+  // would do, and that value gives a reliable run of the same case.
+  BOOST_TEST(has(r.out, "UNRELIABLE: solver.atol = 0.0001"), r.out);
+  BOOST_TEST(has(r.out, "wrote "), r.out);
+  const std::string marker = "set solver.atol <= ";
+  const auto at = r.out.find(marker);
+  BOOST_REQUIRE_MESSAGE(at != std::string::npos, r.out);
+  const std::string token = r.out.substr(at + marker.size(), r.out.find_first_of(" ;\n", at + marker.size()) - at - marker.size());
+  const double would_do = std::stod(token);
+  BOOST_TEST(would_do < 1e-4);
+  BOOST_TEST(would_do > 0);
+  const Result fixed = sh("'" + exe() + "' run '" + sieve + "' --set solver.atol=" + token +
+                              " --set solver.t_end=0.5 --out fixed",
+                          d.path);
+  BOOST_TEST(fixed.status == 0, fixed.out);
+  BOOST_TEST(!has(fixed.out, "UNRELIABLE"), fixed.out);
   // The default tolerances are reliable on the same case.
   const Result ok = sh("'" + exe() + "' run '" + sieve + "' --set solver.t_end=0.5 --out ok", d.path);
   BOOST_TEST(ok.status == 0, ok.out);
