@@ -33,7 +33,7 @@ pcsim_boost_tests(DIR tests/sim LINKS pcsim_sim)
 
 # The CLI tests call the pcsim executable (defined later; generator expressions resolve at
 # generate time). PCSIM_EXE tells a test where it is.
-foreach(t test_abuse_cli test_files_cli test_files_fuzz test_runs_trust test_hostile_model_cli)
+foreach(t test_abuse_cli test_files_cli test_files_fuzz test_runs_trust test_hostile_model_cli test_steady_fuzz)
   if(TEST ${t})
     set_tests_properties(${t} PROPERTIES ENVIRONMENT "PCSIM_EXE=$<TARGET_FILE:pcsim>")
   endif()

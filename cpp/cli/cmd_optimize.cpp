@@ -13,6 +13,7 @@
 #include "cli/commands.hpp"
 #include "common/error.hpp"
 #include "common/files.hpp"
+#include "common/format.hpp"
 #include "sim/case.hpp"
 #include "study/optimize.hpp"
 #include "study/table.hpp"
@@ -69,8 +70,8 @@ void run_optimize(const OptimizeArgs& a) {
     std::printf(" %s in [%s, %s]", b.key.c_str(), num(b.low).c_str(), num(b.high).c_str());
   std::printf("\n  subject to");
   for (const auto& c : o.constraints) std::printf(" %s", c.text().c_str());
-  std::printf("%s\n  COBYLA (NLopt), seed %u, at most %d runs\n",
-              o.constraints.empty() ? " nothing" : "", o.seed, o.max_evals);
+  std::printf("%s\n  COBYLA (NLopt), seed %u, at most %s\n",
+              o.constraints.empty() ? " nothing" : "", o.seed, pcsim::counted(o.max_evals, "run").c_str());
 
   // History table: eval, design keys, objective, constraint quantities, feasible, error.
   std::vector<std::string> header = {"eval"};
@@ -103,8 +104,8 @@ void run_optimize(const OptimizeArgs& a) {
     history << st::csv_line(row) << "\n" << std::flush;
   });
 
-  std::printf("stopped: %s after %zu runs\n", result.stop_reason.c_str(),
-              result.evaluations.size());
+  std::printf("stopped: %s after %s\n", result.stop_reason.c_str(),
+              pcsim::counted(static_cast<long long>(result.evaluations.size()), "run").c_str());
   if (!result.best) throw pcsim::NumericalError("no design point could be run", 0.0);
   const auto& best = result.evaluations[*result.best];
   std::printf("best (run %d, %s):", best.number, best.feasible ? "feasible" : "INFEASIBLE");

@@ -47,10 +47,11 @@ void run(const ResponseArgs& a) {
   const pcsim::steady::ResponseResult r = pcsim::steady::response_case(c, o);
   const auto& m = r.meta;
   using pcsim::format_significant;
-  std::printf("pcsim response: case '%s', %s over %s from %s to %s: %d orbits (%s)\n",
+  std::printf("pcsim response: case '%s', %s over %s from %s to %s: %s (%s)\n",
               c.name.c_str(), r.key.c_str(), r.key.c_str(),
               format_significant(m["values"][0].get<double>(), 6).c_str(),
-              format_significant(m["values"][1].get<double>(), 6).c_str(), m["points"].get<int>(),
+              format_significant(m["values"][1].get<double>(), 6).c_str(),
+              pcsim::counted(m["points"].get<int>(), "orbit").c_str(),
               m["mode"].get<std::string>().c_str());
   if (!r.complete) std::printf("  the branch ended early: %s\n", r.message.c_str());
   std::printf("  stable: %d, unstable: %d, failed: %d\n",

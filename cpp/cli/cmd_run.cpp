@@ -36,7 +36,17 @@ void run(const RunArgs& a) {
   pcsim::sim::RunOptions options;
   options.out_dir = a.out_dir.empty() ? std::filesystem::path("out") / c.name
                                       : std::filesystem::path(a.out_dir);
-  const nlohmann::json summary = pcsim::sim::run_case(c, options);
+  nlohmann::json summary;
+  try {
+    summary = pcsim::sim::run_case(c, options);
+  } catch (const pcsim::sim::UnreliableResult& e) {
+    // The run completed but its tolerance does not control the result: the report is printed
+    // (with its UNRELIABLE line naming solver.atol and a value that would do) so the user sees
+    // what was computed, and the run still fails with exit 3 and the reason on stderr.
+    std::fputs(pcsim::sim::human_report(c, e.summary()).c_str(), stdout);
+    std::fflush(stdout);
+    throw;
+  }
   std::fputs(pcsim::sim::human_report(c, summary).c_str(), stdout);
   if (summary.contains("initial_state")) {  // initial.from = "equilibrium"
     const auto& e = summary["initial_state"];

@@ -7,6 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "sim/case.hpp"
 #include "study/cluster.hpp"
 #include "study/progress.hpp"
@@ -42,7 +43,8 @@ void run(const SweepArgs& a) {
       pcsim::study::run_sweep(base, grid, pcsim::study::case_runner(), options);
   if (!report.ok) throw pcsim::InputError(report.error);
   if (cluster.rank() == 0) {
-    std::printf("sweep: %zu points (%zu from an earlier run, %zu run now", report.points,
+    std::printf("sweep: %s (%zu from an earlier run, %zu run now",
+                pcsim::counted(static_cast<long long>(report.points), "point").c_str(),
                 report.skipped, report.ran);
     if (cluster.size() > 1) std::printf(" on %d ranks", cluster.size());
     std::printf("), %zu failed -> %s\n", report.failed, report.csv.string().c_str());

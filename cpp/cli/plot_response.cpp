@@ -19,6 +19,7 @@
 
 #include "common/error.hpp"
 #include "common/files.hpp"
+#include "common/format.hpp"
 #include "common/gnuplot.hpp"
 
 namespace pcsim::cli {
@@ -160,8 +161,9 @@ TableShape check_plot_table(const fs::path& file, std::uint64_t max_bytes, bool 
         shape.header = split_csv(line);
         have_header = true;
       } else if (field_count(line) != shape.header.size()) {
-        fail("line " + std::to_string(line_no) + " has " + std::to_string(field_count(line)) +
-             " fields, the header " + std::to_string(shape.header.size()));
+        fail("line " + std::to_string(line_no) + " has " +
+             counted(static_cast<long long>(field_count(line)), "field") + ", the header " +
+             std::to_string(shape.header.size()));
       } else {
         ++shape.rows;
       }

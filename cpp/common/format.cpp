@@ -1,6 +1,7 @@
 #include "common/format.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 
 namespace pcsim {
@@ -16,6 +17,16 @@ void append_number(std::string& out, double v) {
 std::string format_number(double v) {
   std::string s;
   append_number(s, v);
+  return s;
+}
+
+void append_csv_number(std::string& out, double v) {
+  if (std::isfinite(v)) append_number(out, v);
+}
+
+std::string csv_number(double v) {
+  std::string s;
+  append_csv_number(s, v);
   return s;
 }
 

@@ -12,6 +12,15 @@ std::string format_number(double v);
 /// Appends format_number(v) to out without a temporary string (the CSV writer's hot path).
 void append_number(std::string& out, double v);
 
+/// A number as a CSV field: format_number(v) if v is finite, else an empty field. A value that
+/// is not defined (f* = |R_s|/R_u in flight, a difference of a missing margin, an output divided
+/// by zero) is written as nothing, never as "nan", "-nan" or "inf", which CSV readers parse
+/// differently or not at all (README, "Output"). Every CSV writer of pcsim writes numbers so.
+std::string csv_number(double v);
+
+/// Appends csv_number(v) to out (the time-series writer's hot path).
+void append_csv_number(std::string& out, double v);
+
 /// v with `digits` significant digits (printf %.*g), for messages and reports.
 std::string format_significant(double v, int digits = 6);
 

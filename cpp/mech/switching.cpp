@@ -1968,8 +1968,9 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
       res.t = t;
       res.message = "switching does not settle at t = " + num(t) + ": " +
                     (total_events > switching.max_events
-                         ? std::to_string(total_events) + " events, more than contact.max_events"
-                         : std::to_string(events_at_instant) + " switches at one instant");
+                         ? counted(total_events, "event") + ", more than contact.max_events = " +
+                               counted(switching.max_events, "event")
+                         : counted(events_at_instant, "switch", "switches") + " at one instant");
       break;
     }
     bool surfaced = false;  // a flight came out of the surface: not a grazing landing

@@ -60,11 +60,8 @@ void RowWriter::work() {
           const double v = rows[i + static_cast<std::size_t>(j)];
           if (j >= columns_ - label_columns_)
             text += labels_.at(static_cast<std::size_t>(v));
-          else if (std::isfinite(v))
-            append_number(text, v);
-          // else: an empty field. A value that is not defined at this instant (f* = |R_s|/R_u
-          // in flight, an output divided by zero) is written as nothing, never as "nan", "-nan"
-          // or "inf", which CSV readers parse differently or not at all (README, "Output").
+          else
+            append_csv_number(text, v);  // an undefined value (f* in flight) is an empty field
         }
         text += '\n';
       }

@@ -452,11 +452,11 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
     writer->finish();
   }
   if (complete && !unreliable.empty())
-    throw NumericalError("case '" + c.name + "': the result is not reliable: " + unreliable +
-                             (out ? "; wrote it to " + options.out_dir->string() +
-                                        " with \"accuracy\": {\"reliable\": false}"
-                                  : std::string()),
-                         res.t);
+    throw UnreliableResult("case '" + c.name + "': the result is not reliable: " + unreliable +
+                               (out ? "; wrote it to " + options.out_dir->string() +
+                                          " with \"accuracy\": {\"reliable\": false}"
+                                    : std::string()),
+                           res.t, j);
   if (!complete) {
     const std::string kept = out ? "; wrote what was computed up to then to " +
                                        options.out_dir->string() + ", marked \"complete\": false"
@@ -550,9 +550,24 @@ StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>
 
 void check_step_budget(const Case& c, const Setup& set, const mech::Model& model, double duration,
                        const std::string& what) {
+  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  // With switching contacts, every step while a contact flies or slides is at most
+  // contact.flight_hmax long: a span of `duration` in flight takes at least duration/flight_hmax
+  // steps. Where that is more than the budget, the budget cannot suffice for a run that flies
+  // (a bouncing or hopping body flies most of the time): refused before work, naming both keys.
+  if (set.contact.switching && set.contact.flight_hmax > 0 && std::isfinite(duration)) {
+    const double flight_steps = std::ceil(duration / set.contact.flight_hmax);
+    if (flight_steps > static_cast<double>(set.max_steps))
+      throw InputError(where + ": keys 'contact.flight_hmax' and 'solver.max_steps': a step of at most "
+                       "contact.flight_hmax = " + format_significant(set.contact.flight_hmax, 6) +
+                       " s while a contact flies or slides needs up to " +
+                       format_significant(flight_steps, 3) + " steps for " + what +
+                       ", more than the step budget solver.max_steps = " + std::to_string(set.max_steps) +
+                       "; raise contact.flight_hmax (default: a 16th of the excitation period) or "
+                       "solver.max_steps, or shorten the time span (README, \"Limits\")");
+  }
   const StepBound b = minimal_steps(model, set.active, set.q0, set.period, duration);
   if (!(b.steps > static_cast<double>(set.max_steps))) return;
-  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
   std::string why;
   if (std::isfinite(b.fastest_period) &&
       !(std::isfinite(set.period) && set.period < b.fastest_period))

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/error.hpp"
 #include "common/files.hpp"
 #include "mech/equilibrium.hpp"
 #include "mech/simulation.hpp"
@@ -79,10 +80,24 @@ mech::SimulationOptions simulation_options(const Setup& setup);
 
 mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& setup, const mech::Model& model);
 
+/// A run that completed but whose tolerance does not control its result (summary.json's
+/// "accuracy": {"reliable": false}): a NumericalError (exit 3) that carries the summary, so the
+/// command can still print the report with its UNRELIABLE line before failing.
+class UnreliableResult : public NumericalError {
+ public:
+  UnreliableResult(const std::string& what, double t, nlohmann::json summary)
+      : NumericalError(what, t), summary_(std::move(summary)) {}
+  const nlohmann::json& summary() const { return summary_; }
+
+ private:
+  nlohmann::json summary_;
+};
+
 /// Runs the case to solver.t_end and returns summary.json's content. Thread-safe: concurrent
 /// calls on different cases share nothing. Throws pcsim::InputError for what the case asks that
 /// cannot be done (too many rows, an output directory in use), pcsim::NumericalError (with the
-/// model time and the reason) if the simulation fails, pcsim::IoError if output cannot be
+/// model time and the reason) if the simulation fails, pcsim::sim::UnreliableResult (a
+/// NumericalError with the summary) if it completed with an uncontrolled result, pcsim::IoError if output cannot be
 /// written.
 nlohmann::json run_case(const Case& c, const RunOptions& options = {});
 

@@ -33,7 +33,7 @@ void parallel_for(std::size_t count, unsigned jobs, const std::function<void(std
   for (auto& t : threads) t.join();
 }
 
-std::string text(double v) { return std::isfinite(v) ? format_number(v) : std::string(); }
+std::string text(double v) { return csv_number(v); }
 
 }  // namespace
 

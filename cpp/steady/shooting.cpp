@@ -486,7 +486,7 @@ OrbitResult newton_shooting(const OrbitProblem& problem, const OrbitPoint& guess
       res.point = x;
       res.last = L;
       res.message = "Newton shooting: the line search found no decrease of the residual after " +
-                    std::to_string(options.max_halvings) + " halvings at iteration " +
+                    counted(options.max_halvings, "halving") + " at iteration " +
                     std::to_string(it) + "; residual reached " +
                     format_significant(L.residual_norm, 3) + " (max |y(kT) - y(0)| = " +
                     format_significant(L.residual_max, 3) + ")" +

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "common/files.hpp"
 #include "common/gnuplot.hpp"
 #include "study/table.hpp"
@@ -20,12 +21,12 @@ std::string diff_text(const std::map<std::string, double>& free_run,
                       const std::map<std::string, double>& locked, const std::string& name) {
   const auto f = free_run.find(name), l = locked.find(name);
   if (f == free_run.end() || l == locked.end()) return "";
-  return format_number(f->second - l->second);
+  return csv_number(f->second - l->second);  // inf - inf is undefined: an empty field
 }
 
 std::string value_text(const std::map<std::string, double>& m, const std::string& name) {
   const auto it = m.find(name);
-  return it == m.end() ? "" : format_number(it->second);
+  return it == m.end() ? "" : csv_number(it->second);
 }
 
 /// gnuplot script: margins (top) and their free - locked differences (bottom) over the first

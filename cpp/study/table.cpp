@@ -26,7 +26,7 @@ nlohmann::json::json_pointer pointer(const std::string& dotted) {
 std::string scalar_text(const nlohmann::json& v) {
   if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
   if (v.is_number_integer()) return std::to_string(v.get<long long>());
-  if (v.is_number()) return format_number(v.get<double>());
+  if (v.is_number()) return csv_number(v.get<double>());  // inf, nan: an empty field
   if (v.is_string()) return v.get<std::string>();
   return "";  // null, or a structure where a scalar was expected
 }
@@ -65,7 +65,7 @@ std::vector<std::string> flatten_summary(const nlohmann::json& summary, const si
   fields.reserve(columns.size());
   for (const auto& col : columns) {
     if (auto d = derived.find(col); d != derived.end()) {
-      fields.push_back(std::isfinite(d->second) ? format_number(d->second) : "");
+      fields.push_back(csv_number(d->second));
       continue;
     }
     const auto p = pointer(col);

@@ -204,6 +204,22 @@ BOOST_AUTO_TEST_CASE(tolerances_that_cannot_give_the_digits_are_refused_or_flagg
   BOOST_TEST(has(r.out, "solver.atol"), r.out);
   const auto s = summary(d.path / "u");
   BOOST_TEST(s["accuracy"]["reliable"].get<bool>() == false);
+  // The report is still printed, with the UNRELIABLE line naming solver.atol and a value that
+  // would do, and that value gives a reliable run of the same case.
+  BOOST_TEST(has(r.out, "UNRELIABLE: solver.atol = 0.0001"), r.out);
+  BOOST_TEST(has(r.out, "wrote "), r.out);
+  const std::string marker = "set solver.atol <= ";
+  const auto at = r.out.find(marker);
+  BOOST_REQUIRE_MESSAGE(at != std::string::npos, r.out);
+  const std::string token = r.out.substr(at + marker.size(), r.out.find_first_of(" ;\n", at + marker.size()) - at - marker.size());
+  const double would_do = std::stod(token);
+  BOOST_TEST(would_do < 1e-4);
+  BOOST_TEST(would_do > 0);
+  const Result fixed = sh("'" + exe() + "' run '" + sieve + "' --set solver.atol=" + token +
+                              " --set solver.t_end=0.5 --out fixed",
+                          d.path);
+  BOOST_TEST(fixed.status == 0, fixed.out);
+  BOOST_TEST(!has(fixed.out, "UNRELIABLE"), fixed.out);
   // The default tolerances are reliable on the same case.
   const Result ok = sh("'" + exe() + "' run '" + sieve + "' --set solver.t_end=0.5 --out ok", d.path);
   BOOST_TEST(ok.status == 0, ok.out);
@@ -376,4 +392,31 @@ BOOST_AUTO_TEST_CASE(an_infinite_force_names_its_coordinate) {
   BOOST_TEST((r.status == 2 || r.status == 3), r.out);
   BOOST_TEST(has(r.out, "'x'"), r.out);
   BOOST_TEST(!has(r.out, "(coordinate )"), r.out);
+}
+
+// contact.flight_hmax against the step budget (issue 19: limits checked before work): with
+// switching contacts every step in flight is at most flight_hmax long, so t_end / flight_hmax
+// steps above solver.max_steps cannot suffice for a body that flies. Refused before work (exit
+// 2) naming both keys, nothing written; at the bound the run is accepted.
+BOOST_AUTO_TEST_CASE(flight_hmax_against_the_step_budget_is_checked_before_work) {
+  TempDir d;
+  const std::string ball = kSource + "/cases/bouncing_ball.toml";
+  for (const char* sets : {"--set contact.flight_hmax=1e-6",  // 2 s / 1e-6 s = 2e6 > 1e6 (default)
+                           "--set contact.flight_hmax=1e-3 --set solver.max_steps=1999"}) {
+    const Result r = sh("'" + exe() + "' run '" + ball + "' " + sets + " --out o", d.path);
+    BOOST_TEST(r.status == 2, sets << ": " << r.out);
+    BOOST_TEST(has(r.out, "contact.flight_hmax"), r.out);
+    BOOST_TEST(has(r.out, "solver.max_steps"), r.out);
+    BOOST_TEST(!fs::exists(d.path / "o"), sets);
+  }
+  // 2 s / 1e-3 s = 2000 steps: a budget of 2000 may suffice, so the run is not refused.
+  const Result ok = sh("'" + exe() + "' run '" + ball +
+                           "' --set contact.flight_hmax=1e-3 --set solver.max_steps=100000 --out ok",
+                       d.path);
+  BOOST_TEST(ok.status == 0, ok.out);
+  const Result edge = sh("'" + exe() + "' run '" + ball +
+                             "' --set contact.flight_hmax=1e-3 --set solver.max_steps=2000 --out edge",
+                         d.path);
+  BOOST_TEST(edge.status != 2, edge.out);
+  BOOST_TEST(!has(edge.out, "contact.flight_hmax"), edge.out);
 }

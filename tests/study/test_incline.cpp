@@ -3,6 +3,8 @@
 #define BOOST_TEST_MODULE study_incline
 #include <boost/test/unit_test.hpp>
 
+#include <limits>
+
 #include "study/incline.hpp"
 #include "study/table.hpp"
 #include "study_fixtures.hpp"
@@ -74,4 +76,51 @@ BOOST_AUTO_TEST_CASE(failed_design_point_is_reported_in_its_row) {
   BOOST_TEST(t->rows[0][t->header.size() - 2] == "ok");
   BOOST_TEST(t->rows[1][t->header.size() - 2] == "error");
   BOOST_TEST(t->rows[1].back().find("theta free") != std::string::npos);
+}
+
+// An undefined value is an empty field, never "nan" or "inf" (issue 19): a margin that is
+// infinite in both runs has an undefined difference (inf - inf), and a summary value that is not
+// finite reaches neither the sweep's table nor the incline table as a token.
+BOOST_AUTO_TEST_CASE(undefined_margins_and_differences_are_empty_fields) {
+  const auto dir = study_test::scratch("incline_undefined");
+  const auto base = study_test::minimal_case(dir);
+  InclineOptions o;
+  o.out_dir = dir;
+  o.jobs = 1;
+  o.plot = false;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const study_test::FakeRunner fake;
+  auto runner = [&](const pcsim::sim::Case& c) {
+    nlohmann::json j = fake(c);
+    const bool locked = c.table.at_path("constraints.lock_theta").value_or(false);
+    // The sieve's client derives contact_margin = R_u_min_over_weight and
+    // rolling_margin = 1 - fstar_max / f.
+    j["R_u_min_over_weight"] = inf;             // both runs: the difference is inf - inf
+    j["fstar_max"] = locked ? nan : 0.0;        // rolling margin 1 free, undefined locked
+    j["amplitude"]["theta"] = locked ? 0.0 : -inf;  // the free run's amplitude column
+    return j;
+  };
+  const auto r = run_incline_study(base, {Axis{"initial.s0", {"0", "0.1"}}}, runner, o);
+  BOOST_REQUIRE_MESSAGE(r.ok, r.error);
+  for (const auto& file : {r.table, r.sweep.csv}) {
+    const std::string text = study_test::slurp(file);
+    BOOST_TEST_INFO(file.string() << ":\n" << text);
+    BOOST_TEST(text.find("nan") == std::string::npos);
+    BOOST_TEST(text.find("inf") == std::string::npos);
+  }
+  const auto t = read_csv(r.table);
+  BOOST_REQUIRE(t);
+  BOOST_REQUIRE(t->rows.size() == 2u);
+  const auto col = [&](const std::string& name) { return t->column(name).value(); };
+  for (const auto& row : t->rows) {
+    BOOST_TEST(row[col("contact_margin_free")] == "");
+    BOOST_TEST(row[col("contact_margin_locked")] == "");
+    BOOST_TEST(row[col("contact_margin_diff")] == "");
+    BOOST_TEST(row[col("rolling_margin_free")] == "1");
+    BOOST_TEST(row[col("rolling_margin_locked")] == "");
+    BOOST_TEST(row[col("rolling_margin_diff")] == "");
+    BOOST_TEST(row[col("amplitude_theta_free")] == "");
+    BOOST_TEST(row[col("status")] == "ok");
+  }
 }

@@ -152,3 +152,20 @@ BOOST_AUTO_TEST_CASE(report_states_penetration_residual_and_flight_time) {
   BOOST_TEST(sr["switching"]["energy_limited_impacts"].get<long>() > 0);
   BOOST_TEST(sr["switching"]["energy_dissipated"]["impacts"].get<double>() >= 0.0);
 }
+
+// Counts in messages are in the right number (issue 19: "more than 1 steps"): the event budget
+// of 1 is "1 event", a budget of 2 "2 events".
+BOOST_AUTO_TEST_CASE(event_budget_message_counts_in_the_right_number) {
+  const TempDir dir("sw_cli_counted");
+  const Result one = pcsim("run cases/bouncing_ball.toml --set contact.max_events=1 --out '" +
+                           (dir.path / "one").string() + "'");
+  BOOST_TEST(one.status == 3);
+  BOOST_TEST_INFO(one.out);
+  BOOST_TEST(one.out.find("2 events, more than contact.max_events = 1 event;") != std::string::npos);
+  BOOST_TEST(one.out.find("1 events") == std::string::npos);
+  const Result two = pcsim("run cases/bouncing_ball.toml --set contact.max_events=2 --out '" +
+                           (dir.path / "two").string() + "'");
+  BOOST_TEST(two.status == 3);
+  BOOST_TEST_INFO(two.out);
+  BOOST_TEST(two.out.find("3 events, more than contact.max_events = 2 events;") != std::string::npos);
+}
