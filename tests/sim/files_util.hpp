@@ -6,6 +6,7 @@
 
 #include "../common/cli_util.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -22,9 +23,20 @@ namespace files_test {
 namespace fs = std::filesystem;
 using pcsim_test::Result;
 
-/// Runs pcsim with `args` in `cwd` (fork/exec: no shell); stdout and stderr together.
-inline Result run_pcsim(const std::vector<std::string>& args, const fs::path& cwd) {
-  Result r;
+/// A finished pcsim process: its exit status (-1 if a signal ended it), the signal, its wall time
+/// and its stdout and stderr together.
+struct Outcome {
+  int status = -1;
+  int signal = 0;
+  double seconds = 0;
+  std::string out;
+};
+
+/// Runs pcsim with `args` in `cwd` (fork/exec: no shell, so any bytes reach it as given). With
+/// alarm_seconds > 0 the child gets an alarm: a runaway ends by SIGALRM.
+inline Outcome run_pcsim_timed(const std::vector<std::string>& args, const fs::path& cwd,
+                               unsigned alarm_seconds) {
+  Outcome o;
   const std::string exe = pcsim_test::exe();
   std::vector<std::string> all = {exe};
   all.insert(all.end(), args.begin(), args.end());
@@ -32,8 +44,9 @@ inline Result run_pcsim(const std::vector<std::string>& args, const fs::path& cw
   for (auto& a : all) argv.push_back(a.data());
   argv.push_back(nullptr);
   int fds[2];
-  if (::pipe(fds) != 0) return r;
+  if (::pipe(fds) != 0) return o;
   const std::string dir = cwd.string();
+  const auto t0 = std::chrono::steady_clock::now();
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::dup2(fds[1], 1);
@@ -41,17 +54,29 @@ inline Result run_pcsim(const std::vector<std::string>& args, const fs::path& cw
     ::close(fds[0]);
     ::close(fds[1]);
     if (::chdir(dir.c_str()) != 0) ::_exit(125);
+    if (alarm_seconds > 0) ::alarm(alarm_seconds);
     ::execv(exe.c_str(), argv.data());
     ::_exit(127);
   }
   ::close(fds[1]);
   char buf[4096];
   ssize_t n;
-  while ((n = ::read(fds[0], buf, sizeof buf)) > 0) r.out.append(buf, static_cast<std::size_t>(n));
+  while ((n = ::read(fds[0], buf, sizeof buf)) > 0) o.out.append(buf, static_cast<std::size_t>(n));
   ::close(fds[0]);
   int st = 0;
   ::waitpid(pid, &st, 0);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (WIFEXITED(st)) o.status = WEXITSTATUS(st);
+  if (WIFSIGNALED(st)) o.signal = WTERMSIG(st);
+  return o;
+}
+
+/// Runs pcsim with `args` in `cwd` (fork/exec: no shell); stdout and stderr together.
+inline Result run_pcsim(const std::vector<std::string>& args, const fs::path& cwd) {
+  Outcome o = run_pcsim_timed(args, cwd, 0);
+  Result r;
+  r.status = o.status;
+  r.out = std::move(o.out);
   return r;
 }
 

@@ -117,48 +117,11 @@ std::string mutated_case(std::mt19937& rng, int h) {
   return c;
 }
 
-struct Outcome {
-  int status = -1;       // exit status, or -1
-  int signal = 0;        // the signal that ended it (SIGALRM: the time bound)
-  double seconds = 0;
-  std::string out;
-};
+using files_test::Outcome;
 
 // fork/exec (no shell) in cwd with an alarm: a runaway ends by SIGALRM.
 Outcome run(const std::vector<std::string>& args, const fs::path& cwd) {
-  Outcome o;
-  const std::string exe = pcsim_test::exe();
-  std::vector<std::string> all = {exe};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  int fds[2];
-  if (::pipe(fds) != 0) return o;
-  const std::string dir = cwd.string();
-  const auto t0 = std::chrono::steady_clock::now();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::dup2(fds[1], 1);
-    ::dup2(fds[1], 2);
-    ::close(fds[0]);
-    ::close(fds[1]);
-    if (::chdir(dir.c_str()) != 0) ::_exit(125);
-    ::alarm(kTimeLimitSeconds);
-    ::execv(exe.c_str(), argv.data());
-    ::_exit(127);
-  }
-  ::close(fds[1]);
-  char buf[4096];
-  ssize_t n;
-  while ((n = ::read(fds[0], buf, sizeof buf)) > 0) o.out.append(buf, static_cast<std::size_t>(n));
-  ::close(fds[0]);
-  int st = 0;
-  ::waitpid(pid, &st, 0);
-  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (WIFEXITED(st)) o.status = WEXITSTATUS(st);
-  if (WIFSIGNALED(st)) o.signal = WTERMSIG(st);
-  return o;
+  return files_test::run_pcsim_timed(args, cwd, kTimeLimitSeconds);
 }
 
 std::string shown(const std::vector<std::string>& args) {
