@@ -310,6 +310,10 @@ ex along_motion(Calculus& calc, const ex& w, const SymbolicModel& m) {
 
 }  // namespace
 
+// The largest structural degree of T in the velocities that the derivation expands to decide
+// whether T is quadratic (cancellations such as (x_d + 1)^3 - x_d^3 - 3*x_d^2 are found up to it).
+constexpr long kExpandableDegree = 8;
+
 // T uses the velocities only in sums, products and natural powers (detail::check_polynomial_in),
 // also where they reach T through definitions, which stay symbols: every definition that T uses,
 // directly or through other definitions, is checked the same way, the definitions that use a
@@ -339,6 +343,47 @@ static void check_kinetic_structure(Calculus& calc, const SymbolicModel& m, cons
       }
       work.push_back(def->second);
     }
+  }
+  // An upper bound of T's degree in the velocities from its structure: sums take the largest
+  // degree, products the sum, natural powers n times the base's, definitions their value's
+  // (velocities appear in nothing else: checked above). The degree test of the derivation below
+  // expands; a polynomial of a high degree (a quadratic form to the 435th power) would take
+  // minutes to expand, so a bound above kExpandableDegree is refused as it stands.
+  std::unordered_map<std::string, long> definition_degree;
+  std::function<long(const ex&)> degree = [&](const ex& e) -> long {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      const std::string name = symbol_name(e);
+      for (const ex& v : m.qd)
+        if (e.is_equal(v)) return 1;
+      const auto def = value_of.find(name);
+      if (def == value_of.end()) return 0;
+      const auto known = definition_degree.find(name);
+      if (known != definition_degree.end()) return known->second;
+      const long d = degree(def->second);
+      definition_degree.emplace(name, d);
+      return d;
+    }
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
+      long d = 0;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const long di = degree(e.op(i));
+        d = GiNaC::is_a<GiNaC::add>(e) ? std::max(d, di) : std::min(d + di, 1L << 40);
+      }
+      return d;
+    }
+    if (GiNaC::is_a<GiNaC::power>(e)) {
+      const long base = degree(e.op(0));
+      if (base == 0 || !GiNaC::is_a<GiNaC::numeric>(e.op(1))) return 0;
+      return std::min(base * GiNaC::ex_to<GiNaC::numeric>(e.op(1)).to_long(), 1L << 40);
+    }
+    return 0;
+  };
+  const long bound = degree(m.T);
+  if (bound > kExpandableDegree) {
+    fail(kinetic.where, kinetic.key,
+         "the kinetic energy T must be quadratic in the velocities, but as written it is a "
+         "polynomial of degree up to " + std::to_string(bound) + " in them (pcsim looks for "
+         "cancellations only up to degree " + std::to_string(kExpandableDegree) + ")");
   }
 }
 

@@ -1,7 +1,7 @@
 // The deterministic mutation harness of model files and added constraints (CTest: fuzz_models).
 //
 //   fuzz_models [--seconds S] [--seed N] [--max-inputs K] [--input-seconds T] [--max-rss-mb M]
-//               [--big-powers 1] [--save-defects DIR]
+//               [--big-powers 0|1] [--save-defects DIR]
 //
 // An input is a case file with an inline model: one of the model files in models/ or a small
 // pendulum, whose expressions (and names) are mutated with hostile text: calls with 0 to 3
@@ -100,11 +100,11 @@ std::string repeat(const std::string& s, std::size_t n) {
   return out;
 }
 
-// Legal powers above 3 of compound bases, such as (x^2 + y^2)^1000 or a ten-term sum^60, are
-// slow while the derivation expands polynomials (the derivation budget's and the tape's matter,
-// not the parser's): they are drawn only with --big-powers 1. Exponents beyond the limit
-// (refused at once) are always drawn.
-bool g_big_powers = false;
+// Legal powers above 3 of compound bases, such as (x^2 + y^2)^1000 or a ten-term sum^60: drawn by
+// default since the tape stopped expanding polynomials and a kinetic energy of a high degree is
+// refused from its structure (before, they took seconds to minutes); --big-powers 0 leaves them
+// out. Exponents beyond the limit (refused at once) are always drawn.
+bool g_big_powers = true;
 
 class Gen {
  public:

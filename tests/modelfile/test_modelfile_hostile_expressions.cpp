@@ -435,6 +435,20 @@ BOOST_AUTO_TEST_CASE(kinetic_energies_with_velocities_inside_functions_are_refus
   expect_refused(model("m*9.81*y", "abs(x_d)^3"), "model.energy.kinetic", {"quadratic"});
 }
 
+// A T of a high structural degree in the velocities is refused at once, from its structure, not
+// after minutes of expanding it (fuzz_models --big-powers 1, seed 3: a quadratic form to the
+// 435th power); cancellations below the expandable degree are still found.
+BOOST_AUTO_TEST_CASE(kinetic_energies_of_a_high_degree_are_refused_from_their_structure) {
+  expect_refused(model("m*9.81*y", "(0.5*m*(x_d^2 + y_d^2))^435"), "model.energy.kinetic",
+                 {"quadratic in the velocities", "degree up to 870"});
+  expect_refused(model("m*9.81*y", "0.5*m*y_d^2 + k^3", "[model.define]\nk = \"(x_d + y)^4\"\n"),
+                 "model.energy.kinetic", {"quadratic in the velocities", "degree up to 12"});
+  expect_refused(model("m*9.81*y", "0.5*m*(x_d^2 + y_d^2) + x_d^3"), "model.energy.kinetic",
+                 {"quadratic in the velocities"});
+  // Degree 3 as written, 2 after the cancellation: loads.
+  BOOST_TEST(loads(model("m*9.81*y", "0.5*m*y_d^2 + (x_d + 1)^3 - x_d^3 - 2*x_d^2"))->n() == 2);
+}
+
 BOOST_AUTO_TEST_CASE(quadratic_kinetic_energies_with_any_function_of_the_positions_load) {
   for (const std::string t :
        {"0.5*m*(x_d^2 + y_d^2)*(1 + sin(x)^2)", "0.5*x_d^2*exp(y) + 0.5*y_d^2", "0.5*(x_d + cos(y)*y_d)^2 + y_d^2",
