@@ -13,10 +13,11 @@
 
 #include "sim/case.hpp"
 #include "study/sweep.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 int main(int argc, char** argv) {
   using namespace pcsim::study;
+  using namespace pcsim::sim;
   std::vector<pcsim::sim::Override> overrides;
   if (argc > 1) overrides.push_back({"solver.t_end", argv[1]});
   const auto base = pcsim::sim::load_case(

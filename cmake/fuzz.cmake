@@ -2,14 +2,16 @@
 # bounded time (10 s in Release, 60 s in Debug, where the sanitizers watch), and, with
 # -DPCSIM_FUZZ=ON and clang, a libFuzzer binary for hours of coverage-guided fuzzing
 # (scripts/fuzz.sh).
-if(NOT TARGET pcsim_sieve)
+# With the sieve built, its cases are fuzzed too.
+if(NOT TARGET pcsim_sim)
   return()
 endif()
 add_library(pcsim_case_fuzz STATIC tests/fuzz/case_fuzz.cpp)
-target_link_libraries(pcsim_case_fuzz PUBLIC pcsim_sieve)
+target_link_libraries(pcsim_case_fuzz PUBLIC pcsim_sim pcsim_modelfile)
 target_compile_definitions(pcsim_case_fuzz PRIVATE PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-if(TARGET pcsim_modelfile)
-  target_link_libraries(pcsim_case_fuzz PUBLIC pcsim_modelfile)
+if(TARGET pcsim_sieve)
+  target_link_libraries(pcsim_case_fuzz PUBLIC pcsim_sieve)
+  target_compile_definitions(pcsim_case_fuzz PRIVATE PCSIM_WITH_SIEVE)
 endif()
 add_executable(fuzz_cases tests/fuzz/fuzz_cases.cpp)
 target_link_libraries(fuzz_cases PRIVATE pcsim_case_fuzz)

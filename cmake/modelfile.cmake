@@ -10,16 +10,10 @@ pkg_check_modules(GINAC REQUIRED IMPORTED_TARGET ginac)
 pcsim_component(NAME modelfile
   CXX   cpp/modelfile/*.cpp
   LINKS pcsim_mech PkgConfig::GINAC tomlplusplus::tomlplusplus)
-pcsim_boost_tests(DIR tests/modelfile LINKS pcsim_modelfile)
-pcsim_benchmarks(PREFIX bench_modelfile LINKS pcsim_modelfile)
-
-# The sieve comparisons (test and benchmark) also need the C++ sieve, a later component;
-# target names resolve at generate time.
-foreach(t test_modelfile_sieve bench_modelfile)
-  if(TARGET ${t})
-    target_link_libraries(${t} PRIVATE pcsim_sieve)
-  endif()
-endforeach()
+# The sieve comparisons (test and benchmark) also need the C++ sieve, a later component
+# (target names resolve at generate time).
+pcsim_boost_tests(DIR tests/modelfile LINKS pcsim_modelfile SIEVE test_modelfile_sieve)
+pcsim_benchmarks(PREFIX bench_modelfile LINKS pcsim_modelfile SIEVE bench_modelfile)
 
 # The LeakSanitizer suppressions for CLN/GiNaC (cpp/modelfile/expression.cpp) must be in every
 # sanitized program that links them, also those that never call the parser (the built-in models

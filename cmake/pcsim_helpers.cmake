@@ -29,11 +29,16 @@ function(pcsim_component)
   target_link_libraries(pcsim_${C_NAME} PUBLIC ${C_LINKS})
 endfunction()
 
-# pcsim_boost_tests(DIR tests/huang LINKS pcsim_huang [LABELS ...])
+# pcsim_boost_tests(DIR tests/huang LINKS pcsim_huang [LABELS ...] [SIEVE test_names...])
 # Every tests/<dir>/test_*.cpp becomes one Boost.Test executable and one CTest test of the
 # same name, run from the source tree root so tests can read cases/ and tests/data/.
+# The tests named under SIEVE are the sieve's (they need its model, client or C++ forms): they
+# also link pcsim_sieve, carry the label "sieve", and exist only with PCSIM_WITH_SIEVE. Every
+# test sees PCSIM_WITH_SIEVE as 1 or 0: a test case of another test that runs a sieve case
+# through the pcsim executable is the sieve's by the decorator
+# `* boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()` (skipped in a build without it).
 function(pcsim_boost_tests)
-  cmake_parse_arguments(T "" "DIR" "LINKS;LABELS" ${ARGN})
+  cmake_parse_arguments(T "" "DIR" "LINKS;LABELS;SIEVE" ${ARGN})
   foreach(l IN LISTS T_LINKS)
     if(l MATCHES "^pcsim_" AND NOT TARGET ${l})
       return()
@@ -42,21 +47,32 @@ function(pcsim_boost_tests)
   file(GLOB files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/${T_DIR}/test_*.cpp")
   foreach(f IN LISTS files)
     get_filename_component(name "${f}" NAME_WE)
+    set(links ${T_LINKS})
+    set(labels ${T_LABELS})
+    if(name IN_LIST T_SIEVE)
+      if(NOT PCSIM_WITH_SIEVE)
+        continue()
+      endif()
+      list(APPEND links pcsim_sieve)
+      list(APPEND labels sieve)
+    endif()
     add_executable(${name} "${f}")
-    target_link_libraries(${name} PRIVATE ${T_LINKS} Boost::unit_test_framework)
+    target_link_libraries(${name} PRIVATE ${links} Boost::unit_test_framework)
     target_compile_definitions(${name} PRIVATE BOOST_TEST_DYN_LINK
-      PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" PCSIM_BINARY_DIR="${CMAKE_BINARY_DIR}")
+      PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" PCSIM_BINARY_DIR="${CMAKE_BINARY_DIR}"
+      PCSIM_WITH_SIEVE=$<BOOL:${PCSIM_WITH_SIEVE}>)
     add_test(NAME ${name} COMMAND ${name} --log_level=test_suite --report_level=short
              WORKING_DIRECTORY "${PROJECT_SOURCE_DIR}")
-    if(T_LABELS)
-      set_tests_properties(${name} PROPERTIES LABELS "${T_LABELS}")
+    if(labels)
+      set_tests_properties(${name} PROPERTIES LABELS "${labels}")
     endif()
   endforeach()
 endfunction()
 
-# pcsim_benchmarks(DIR bench PREFIX bench_huang LINKS ...): bench/<prefix>*.cpp -> executables.
+# pcsim_benchmarks(DIR bench PREFIX bench_huang LINKS ... [SIEVE names...]):
+# bench/<prefix>*.cpp -> executables; those named under SIEVE need the sieve (as for tests).
 function(pcsim_benchmarks)
-  cmake_parse_arguments(B "" "PREFIX" "LINKS" ${ARGN})
+  cmake_parse_arguments(B "" "PREFIX" "LINKS;SIEVE" ${ARGN})
   foreach(l IN LISTS B_LINKS)
     if(l MATCHES "^pcsim_" AND NOT TARGET ${l})
       return()
@@ -65,8 +81,15 @@ function(pcsim_benchmarks)
   file(GLOB files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/bench/${B_PREFIX}*.cpp")
   foreach(f IN LISTS files)
     get_filename_component(name "${f}" NAME_WE)
+    set(links ${B_LINKS})
+    if(name IN_LIST B_SIEVE)
+      if(NOT PCSIM_WITH_SIEVE)
+        continue()
+      endif()
+      list(APPEND links pcsim_sieve)
+    endif()
     add_executable(${name} "${f}")
-    target_link_libraries(${name} PRIVATE ${B_LINKS})
+    target_link_libraries(${name} PRIVATE ${links})
     target_compile_definitions(${name} PRIVATE PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   endforeach()
 endfunction()

@@ -1,13 +1,29 @@
-# Component sieve: the vibration-sieve model, case files, run/summary/plot logic.
-# It needs the mechanics engine; until pcsim_mech exists it is skipped (so pcsim still links).
-if(NOT TARGET pcsim_sim)
-  message(STATUS "pcsim: component sieve needs pcsim_sim; skipped")
+# Application sieve: the vibration sieve of the 1995 paper as a client of the case layer (the
+# built-in model "sieve", its verdicts, summary keys, report and figures). An application is a
+# leaf: nothing below links it, and with -DPCSIM_WITH_SIEVE=OFF everything else builds and
+# passes without it. Its commands and registration (cpp/sieve/cli/*.cpp) are compiled into the
+# pcsim executable (cmake/app.cmake). It comes after the components it builds on (the case
+# layer, the sweep of the studies).
+if(NOT PCSIM_WITH_SIEVE)
+  message(STATUS "pcsim: the sieve application is off (PCSIM_WITH_SIEVE=OFF)")
   return()
 endif()
 pcsim_component(NAME sieve
   CXX   cpp/sieve/*.cpp
   LINKS pcsim_sim)
-pcsim_boost_tests(DIR tests/sieve LINKS pcsim_sieve)
+# Its incline study (`pcsim study incline`), built on the generic sweep: a library of its own,
+# so that the sieve's model and client do not carry the studies.
+pcsim_component(NAME sieve_incline
+  CXX   cpp/sieve/incline/*.cpp
+  LINKS pcsim_sieve pcsim_study)
+list(APPEND PCSIM_APPLICATIONS sieve)
+list(APPEND PCSIM_APPLICATION_LIBRARIES pcsim_sieve pcsim_sieve_incline)
+foreach(t test_incline test_study_real)
+  if(TARGET ${t})
+    target_link_libraries(${t} PRIVATE pcsim_sieve_incline)
+  endif()
+endforeach()
+pcsim_boost_tests(DIR tests/sieve LINKS pcsim_sieve LABELS sieve)
 pcsim_benchmarks(PREFIX bench_sieve LINKS pcsim_sieve)
 
 # The CLI tests call the pcsim executable (defined later, in CMakeLists.txt; generator
@@ -16,32 +32,17 @@ if(TEST test_sieve_cli)
   set_tests_properties(test_sieve_cli PROPERTIES ENVIRONMENT "PCSIM_EXE=$<TARGET_FILE:pcsim>")
 endif()
 
-# Every case in cases/ with a stored reference summary is a test: run it through `pcsim run`
-# and compare summary.json with cases/reference/<case>.summary.json to the number of
-# significant digits stated in the reference file's "compare" entry
-# (tests/sieve/compare_summary.cpp).
-add_executable(sieve_compare_summary tests/sieve/compare_summary.cpp)
-target_link_libraries(sieve_compare_summary PRIVATE nlohmann_json::nlohmann_json)
-file(GLOB _sieve_refs CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/cases/reference/*.summary.json")
-foreach(ref IN LISTS _sieve_refs)
-  get_filename_component(_name "${ref}" NAME)
-  string(REPLACE ".summary.json" "" _case "${_name}")
-  add_test(NAME case_${_case}
-    COMMAND ${CMAKE_COMMAND}
-      -DPCSIM=$<TARGET_FILE:pcsim> -DCOMPARE=$<TARGET_FILE:sieve_compare_summary>
-      -DCASE=${PROJECT_SOURCE_DIR}/cases/${_case}.toml -DREFERENCE=${ref}
-      -DOUT=${CMAKE_BINARY_DIR}/case_out/${_case}
-      -P ${PROJECT_SOURCE_DIR}/tests/sieve/run_case.cmake)
-  set_tests_properties(case_${_case} PROPERTIES LABELS "case")
-endforeach()
-# Erratum 7: that the printed rolling sign reproduces the references made before the erratum,
-# bit for bit, is a Boost test (test_sieve_rolling): it needs the C++ closed-form model variant
-# of that path, which is not a case key.
+# The sieve's cases are also case tests (cmake/cases.cmake). Erratum 7: that the printed
+# rolling sign reproduces the references made before the erratum, bit for bit, is a Boost test
+# (test_sieve_rolling): it needs the C++ closed-form model variant of that path, which is not a
+# case key.
 
-# Results independent of the system BLAS's threading and core type (issue 14).
+# Results independent of the system BLAS's threading and core type (issue 14), on the sieve's
+# case.
 add_test(NAME blas_independence
   COMMAND ${CMAKE_COMMAND}
-    -DPCSIM=$<TARGET_FILE:pcsim> -DCOMPARE=$<TARGET_FILE:sieve_compare_summary>
+    -DPCSIM=$<TARGET_FILE:pcsim> -DCOMPARE=$<TARGET_FILE:case_compare_summary>
     -DCASE=${PROJECT_SOURCE_DIR}/cases/sieve_1995.toml
     -DOUT=${CMAKE_BINARY_DIR}/test-scratch/blas_independence
     -P ${PROJECT_SOURCE_DIR}/tests/sim/blas_independence.cmake)
+set_tests_properties(blas_independence PROPERTIES LABELS "sieve")

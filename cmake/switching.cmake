@@ -1,10 +1,10 @@
 # The switching simulation's validation (issue 12): contact problems with exact solutions,
 # energy balances, the two reaction formulations, the LCP path and the sieve after losing
 # contact. The engine itself is part of mech (cpp/mech/switching.*), the LCP plugin of lcp.
-if(NOT TARGET pcsim_sieve)
+if(NOT TARGET pcsim_sim)
   return()
 endif()
-pcsim_boost_tests(DIR tests/switching LINKS pcsim_sieve)
+pcsim_boost_tests(DIR tests/switching LINKS pcsim_sim SIEVE test_switching_sieve)
 # The CLI tests call the pcsim executable (defined later; generator expressions resolve at
 # generate time).
 foreach(_t test_switching_cli test_switching_openblas_settings)

@@ -17,7 +17,7 @@
 #include "sim/case.hpp"
 #include "study/optimize.hpp"
 #include "study/table.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 namespace {
 
@@ -41,13 +41,13 @@ void run_optimize(const OptimizeArgs& a) {
   std::vector<pcsim::sim::Override> overrides;
   for (const auto& s : a.set) overrides.push_back(pcsim::sim::parse_override(s));
   const pcsim::sim::Case base = pcsim::sim::load_case(a.case_file, overrides);
-  std::vector<st::Bounds> bounds;
+  std::vector<pcsim::sim::Bounds> bounds;
   std::vector<std::string> keys;
   for (const auto& v : a.vary) {
-    bounds.push_back(st::parse_bounds(v, base));
+    bounds.push_back(pcsim::sim::parse_bounds(v, base));
     keys.push_back(bounds.back().key);
   }
-  st::check_distinct_keys(keys);
+  pcsim::sim::check_distinct_keys(keys);
   st::OptimizeOptions o;
   o.objective = a.objective.empty() ? st::default_objective(base) : a.objective;
   if (o.objective.empty())

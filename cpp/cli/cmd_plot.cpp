@@ -1,5 +1,5 @@
-// `pcsim plot DIR`: PNG figures of a `pcsim run` output directory with gnuplot. The sieve:
-// theta(t), R_u(t) with 0 marked, f*(t) with f marked, x(t) and y(t). Any other model: its
+// `pcsim plot DIR`: PNG figures of a `pcsim run` output directory with gnuplot. A model with a
+// client draws the client's figures (sim::Client::figures). Any other model: its
 // coordinates, its non-zero reactions and its outputs (at most six curves per figure). Each
 // figure shows the whole run, and below it the summary window when that is part of the run.
 #include <CLI/CLI.hpp>
@@ -24,6 +24,7 @@
 #include "cli/plot_response.hpp"
 #include "common/error.hpp"
 #include "common/gnuplot.hpp"
+#include "sim/client.hpp"
 
 namespace {
 
@@ -43,15 +44,7 @@ std::string num_text(double v) {
   return b;
 }
 
-struct Figure {
-  std::string file, title, ylabel;
-  std::vector<std::pair<std::string, std::string>> curves;  // column, legend
-  std::string hline_label;
-  double hline = 0;
-  bool has_hline = false;
-  bool hline_in_window = true;  ///< false: the window panel autoscales to the curve alone
-  double offset = 0.0, scale = 1.0;  ///< curves plotted as (column - offset) * scale
-};
+using Figure = pcsim::sim::PlotFigure;
 
 // Switching runs (issue 12): the intervals in which a contact flies or slides, from events.csv
 // (each event's mode_after holds until the contact's next event) and the initial modes of
@@ -143,38 +136,14 @@ void plot_run(const std::string& dir_text) {
   const double w0 = s.at("window").at(0).get<double>(), w1 = s.at("window").at(1).get<double>();
   const std::string name = s.value("case", std::string("case"));
   std::vector<Figure> figs;
-  const bool sieve = s.value("model", std::string()) == "sieve";
-  if (sieve) {
-    for (const char* need : {"x", "y", "theta", "R_u", "fstar"})
-      if (!col.count(need))
-        throw pcsim::InputError(csv.string() + ": header has no column '" + need + "'");
-    double f = 0;
-    bool have_f = false;
-    if (s.contains("assumptions") && s["assumptions"].contains("parameters.f")) {
-      f = s["assumptions"]["parameters.f"].get<double>();
-      have_f = true;
-    }
-    figs.push_back({"theta.png", "Desk rotation theta(t)", "theta [rad]", {{"theta", "theta"}}, "", 0, false});
-    figs.push_back({"R_u.png", "Normal contact force R_u(t); (3.1) contact kept while R_u > 0",
-                    "R_u [N]", {{"R_u", "R_u"}}, "R_u = 0 (contact lost)", 0, true});
-    figs.push_back({"fstar.png", "Friction ratio f*(t) = |R_s|/R_u; (3.2) rolling kept while f* < f",
-                    "f* [-]", {{"fstar", "f*"}}, "f (friction coefficient)", f, have_f, false});
-    figs.push_back({"xy.png", "Desk displacement x(t) (vertical) and y(t) (horizontal)",
-                    "displacement [m]", {{"x", "x"}, {"y", "y"}}, "", 0, false});
-    if (s.contains("switching") && col.count("u")) {
-      double u0 = 0;
-      bool have_u0 = false;
-      if (s.contains("parameters") && s["parameters"].contains("u0")) {
-        u0 = s["parameters"]["u0"].get<double>();
-        have_u0 = true;
-      }
-      Figure fu{"u.png", "Roller height over the deck u(t) - u0 (the gap; 0: on the deck)",
-                "u - u0 [micrometres]", {{"u", "u - u0"}}, "on the deck", 0.0, true};
-      fu.offset = have_u0 ? u0 : 0.0;
-      fu.scale = 1e6;
-      figs.push_back(fu);
-    }
-  } else {
+  // A model's client draws its own figures (the sieve: theta, R_u, f*, x and y); any other
+  // model gets the generic ones.
+  if (const auto client = pcsim::sim::find_client(s.value("model", std::string()))) {
+    std::set<std::string> columns;
+    for (const auto& [cname, idx] : col) columns.insert(cname);
+    figs = client->figures(s, columns, csv.string());
+  }
+  if (figs.empty()) {
     // Any model: the coordinates, the reactions that are not identically zero, and the
     // outputs, at most kPerFigure curves per figure (numbered figures beyond that).
     constexpr std::size_t kPerFigure = 6;

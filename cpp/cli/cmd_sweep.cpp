@@ -12,7 +12,7 @@
 #include "study/cluster.hpp"
 #include "study/progress.hpp"
 #include "study/sweep.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 namespace {
 
@@ -30,7 +30,7 @@ void run(const SweepArgs& a) {
   for (const auto& s : a.set) overrides.push_back(pcsim::sim::parse_override(s));
   const pcsim::sim::Case base = pcsim::sim::load_case(a.case_file, overrides);
   // Every specification is checked before MPI starts and before any point runs.
-  const pcsim::study::Grid grid = pcsim::study::make_grid(a.vary, base);
+  const pcsim::sim::Grid grid = pcsim::sim::make_grid(a.vary, base);
 
   pcsim::study::Cluster cluster;
   pcsim::study::SweepOptions options;

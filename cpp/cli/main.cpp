@@ -1,4 +1,5 @@
-// pcsim: the command line. Subcommands register themselves (see commands.hpp).
+// pcsim: the command line. Subcommands, and the applications compiled in, register themselves
+// (see commands.hpp and cmake/app.cmake).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -10,7 +11,6 @@
 #include "cli/commands.hpp"
 #include "common/error.hpp"
 #include "common/files.hpp"
-#include "sieve/source.hpp"
 
 namespace pcsim::cli {
 
@@ -33,7 +33,6 @@ int main(int argc, char** argv) {
       "pcsim: constrained mechanical systems by the principle of compatibility, with the "
       "reaction forces computed directly"};
   app.require_subcommand(1);
-  pcsim::sieve::register_sieve();
   app.set_version_flag("--version", "pcsim 0.1.0");
   auto commands = pcsim::cli::registry();
   std::stable_sort(commands.begin(), commands.end(),

@@ -1,6 +1,7 @@
 // Response curves for `pcsim plot` (see plot_response.hpp).
 #include "cli/plot_response.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cerrno>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include "common/files.hpp"
 #include "common/format.hpp"
 #include "common/gnuplot.hpp"
+#include "sim/client.hpp"
 
 namespace pcsim::cli {
 
@@ -262,13 +264,15 @@ void draw_response(const fs::path& dir) {
     }
   const std::string key = meta.value("key", std::string("p"));
   if (!col.count(key) || !col.count("stable")) throw InputError(csv.string() + ": no column '" + key + "' or 'stable'");
-  // Coordinates to draw: the sieve's x, y, theta; otherwise every coordinate that moves.
-  std::vector<std::string> coords;
-  const bool sieve = meta.value("model", std::string()) == "sieve";
+  // Coordinates to draw: those the model's client names (the sieve: x, y, theta), of them or
+  // of all every coordinate that moves.
+  std::vector<std::string> coords, chosen;
+  if (const auto client = sim::find_client(meta.value("model", std::string())))
+    chosen = client->response_coordinates();
   for (const auto& h : header) {
     if (h.rfind("amplitude.", 0) != 0) continue;
     const std::string name = h.substr(10);
-    if (sieve && name != "x" && name != "y" && name != "theta") continue;
+    if (!chosen.empty() && std::find(chosen.begin(), chosen.end(), name) == chosen.end()) continue;
     double amax = 0;
     for (const auto& r : rows) {
       const auto& f = r[col[h] - 1];

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -18,5 +19,10 @@ std::shared_ptr<const sim::Client> make_sieve_client();
 /// The summary columns of a sieve sweep.csv, in order (every scalar of summary.json that is a
 /// deterministic function of the case, then the two design margins).
 const std::vector<std::string>& sieve_sweep_columns();
+
+/// The figures of `pcsim plot` for a sieve run (sim::Client::figures).
+std::vector<sim::PlotFigure> sieve_figures(const nlohmann::json& summary,
+                                           const std::set<std::string>& columns,
+                                           const std::string& table);
 
 }  // namespace pcsim::sieve

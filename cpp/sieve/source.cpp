@@ -148,6 +148,7 @@ void register_sieve() {
   std::call_once(once, [] {
     sim::register_builtin("sieve", [] { return std::make_shared<const SieveSource>(); });
     sim::register_client("sieve", make_sieve_client());
+    sim::set_default_builtin("sieve");  // a case without `model` is a sieve case
   });
 }
 

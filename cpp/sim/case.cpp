@@ -441,9 +441,12 @@ std::vector<AddedConstraint> added_constraints(const fs::path& file, const toml:
 std::shared_ptr<const ModelSource> resolve_model(const fs::path& file, const toml::table& t) {
   const toml::node* m = t.get("model");
   if (!m) {
-    auto s = find_builtin("sieve");  // the case format's default (architecture.md section 4)
-    if (!s) throw InputError(where(file) + ": key 'model': no model given");
-    return s;
+    // The case format's default model, set by the application that owns it (the sieve,
+    // architecture.md section 4); a build without that application has none.
+    if (auto s = default_builtin()) return s;
+    throw InputError(where(file) + ": key 'model': expected a built-in model name, a model file "
+                     "or a [model] table (this build has no default model for a case without "
+                     "'model')");
   }
   if (m->is_table()) return load_inline_model(*m->as_table(), file);
   if (!m->is_string())

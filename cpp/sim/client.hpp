@@ -4,7 +4,9 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,26 @@ class ClientMonitor {
                       nlohmann::json& summary) = 0;
 };
 
+/// One figure of `pcsim plot` for a run's time series: curves by column name, and an optional
+/// horizontal line (a limit such as R_u = 0).
+struct PlotFigure {
+  std::string file, title, ylabel;
+  std::vector<std::pair<std::string, std::string>> curves;  ///< column, legend
+  std::string hline_label;
+  double hline = 0;
+  bool has_hline = false;
+  bool hline_in_window = true;  ///< false: the window panel autoscales to the curve alone
+  double offset = 0.0, scale = 1.0;  ///< curves plotted as (column - offset) * scale
+};
+
+/// A bound on a summary column (`pcsim optimize`'s constraints): column >= value (at_least) or
+/// column <= value.
+struct SummaryBound {
+  std::string column;
+  bool at_least = true;
+  double value = 0.0;
+};
+
 class Client {
  public:
   virtual ~Client() = default;
@@ -62,6 +84,22 @@ class Client {
                                                         const Case& c) const {
     return {};
   }
+  /// The figures `pcsim plot` draws of a run's output directory, from its summary (summary.json,
+  /// or a steady.json's "summary") and the columns of its time series; empty for the generic
+  /// ones (coordinates, reactions, outputs). Throws pcsim::InputError naming `table` when a
+  /// column the figures need is missing.
+  virtual std::vector<PlotFigure> figures(const nlohmann::json& summary,
+                                          const std::set<std::string>& columns,
+                                          const std::string& table) const {
+    return {};
+  }
+  /// The coordinates whose amplitudes `pcsim plot` draws for a frequency response; empty for
+  /// every coordinate that moves.
+  virtual std::vector<std::string> response_coordinates() const { return {}; }
+  /// `pcsim optimize`'s default objective (a summary column; "" for none) and its default
+  /// constraints for a case of this model.
+  virtual std::string default_objective() const { return ""; }
+  virtual std::vector<SummaryBound> default_constraints() const { return {}; }
 };
 
 /// Associates a client with a built-in model name (the sieve registers one). Thread-safe.

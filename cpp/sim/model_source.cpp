@@ -30,6 +30,7 @@ struct Builtins {
   std::mutex mutex;
   std::map<std::string, SourceFactory> factories;
   std::map<std::string, std::shared_ptr<const ModelSource>> built;
+  std::string default_name;  ///< the model of a case without `model` ("" = none)
 };
 
 Builtins& builtins() {
@@ -73,6 +74,22 @@ std::shared_ptr<const ModelSource> find_builtin(const std::string& name) {
   auto source = factory();
   std::lock_guard<std::mutex> lock(b.mutex);
   return b.built.emplace(name, std::move(source)).first->second;
+}
+
+void set_default_builtin(const std::string& name) {
+  Builtins& b = builtins();
+  std::lock_guard<std::mutex> lock(b.mutex);
+  b.default_name = name;
+}
+
+std::shared_ptr<const ModelSource> default_builtin() {
+  std::string name;
+  {
+    Builtins& b = builtins();
+    std::lock_guard<std::mutex> lock(b.mutex);
+    name = b.default_name;
+  }
+  return name.empty() ? nullptr : find_builtin(name);
 }
 
 std::vector<std::string> builtin_names() {

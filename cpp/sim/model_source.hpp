@@ -101,6 +101,13 @@ std::shared_ptr<const ModelSource> find_builtin(const std::string& name);
 /// The names of the built-in models, sorted.
 std::vector<std::string> builtin_names();
 
+/// Makes the built-in model `name` the model of a case without a `model` key (an application
+/// registers itself so; the sieve does, architecture.md section 4). Thread-safe.
+void set_default_builtin(const std::string& name);
+
+/// The built-in model of a case without a `model` key, or null when no application set one.
+std::shared_ptr<const ModelSource> default_builtin();
+
 /// Loads a model file (`model = "path.toml"`, the path already resolved) or an inline [model]
 /// table of a case file. Throws pcsim::InputError naming the file, the key and what is wrong.
 std::shared_ptr<const ModelSource> load_model_file(const std::filesystem::path& file);

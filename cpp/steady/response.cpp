@@ -13,7 +13,7 @@
 #include "common/files.hpp"
 #include "common/format.hpp"
 #include "sim/client.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 namespace pcsim::steady {
 
@@ -50,7 +50,7 @@ sim::Case case_at(const sim::Case& c, const std::string& key, double value) {
 ResponseResult response_case(const sim::Case& c, const ResponseOptions& o) {
   ResponseResult res;
   const auto t_start = std::chrono::steady_clock::now();
-  const study::Axis axis = study::parse_vary(o.vary, c);
+  const sim::Axis axis = sim::parse_vary(o.vary, c);
   res.key = axis.key;
   const auto eq = o.vary.find('=');
   const std::string values = o.vary.substr(eq + 1);

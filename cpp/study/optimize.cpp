@@ -10,6 +10,7 @@
 #include <nlopt.hpp>
 
 #include "common/error.hpp"
+#include "sim/client.hpp"
 #include "study/table.hpp"
 
 namespace pcsim::study {
@@ -51,7 +52,7 @@ std::string stop_text(nlopt::result r) {
 /// constraint at the same x reuse one run).
 struct Problem {
   const sim::Case& base;
-  const std::vector<Bounds>& bounds;
+  const std::vector<sim::Bounds>& bounds;
   const Runner& runner;
   const OptimizeOptions& options;
   const std::function<void(const Evaluation&)>& on_evaluation;
@@ -178,18 +179,18 @@ void check_objective_name(const std::string& name, const sim::Case& base) {
 }
 
 std::string default_objective(const sim::Case& base) {
-  return base.model->name() == "sieve" ? "contact_margin" : "";
+  return base.client ? base.client->default_objective() : "";
 }
 
 std::vector<Constraint> default_constraints(const sim::Case& base) {
-  if (base.model->name() != "sieve") return {};
-  return {{"rolling_margin", true, 0.2},
-          {"amplitude.theta", false, 1e-3},
-          {"amplitude.x", true, 2e-5},
-          {"amplitude.x", false, 1e-4}};
+  std::vector<Constraint> out;
+  if (base.client)
+    for (const auto& b : base.client->default_constraints())
+      out.push_back({b.column, b.at_least, b.value});
+  return out;
 }
 
-OptimizeResult optimize(const sim::Case& base, const std::vector<Bounds>& bounds,
+OptimizeResult optimize(const sim::Case& base, const std::vector<sim::Bounds>& bounds,
                         const Runner& runner, const OptimizeOptions& options,
                         const std::function<void(const Evaluation&)>& on_evaluation) {
   Problem p{base, bounds, runner, options, on_evaluation, {}, {}, kNaN};

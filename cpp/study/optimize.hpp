@@ -10,7 +10,7 @@
 
 #include "sim/case.hpp"
 #include "study/sweep.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 namespace pcsim::study {
 
@@ -29,19 +29,12 @@ Constraint parse_constraint(const std::string& spec, const sim::Case& base);
 /// Throws pcsim::InputError unless `name` is a numeric summary column.
 void check_objective_name(const std::string& name, const sim::Case& base);
 
-/// The default objective of a case: contact_margin for the sieve; "" (none: --objective is
-/// required) for other models.
+/// The default objective of a case: its model client's (sim::Client::default_objective; the
+/// sieve's is contact_margin); "" (none: --objective is required) for a model without one.
 std::string default_objective(const sim::Case& base);
 
-/// The default constraints of `pcsim optimize` for the sieve (none for other models; the paper case, t_end = 10 s, has rolling
-/// margin 0.996, amplitude.x 2.36e-5 m, amplitude.theta 1.4e-5 rad):
-///   rolling_margin >= 0.2       rolling (3.2) keeps 20 % of the friction in reserve (issue 6);
-///   amplitude.theta <= 1e-3     the incline vibration stays small (sieve-model.md section 6,
-///                               "theta small"; 1 mrad is ~70x the paper case's amplitude);
-///   amplitude.x >= 2e-5         the sieve must keep vibrating to grind: at least ~85 % of the
-///                               paper case's vertical amplitude, so the optimizer cannot buy
-///                               contact margin by simply switching the vibration off;
-///   amplitude.x <= 1e-4         and at most ~4x of it (spring stroke, desk stresses).
+/// The default constraints of `pcsim optimize`: its model client's
+/// (sim::Client::default_constraints); none for a model without one.
 std::vector<Constraint> default_constraints(const sim::Case& base);
 
 struct OptimizeOptions {
@@ -77,7 +70,7 @@ struct OptimizeResult {
 /// fails scores the worst objective seen so far minus 1 (and violates every constraint by 1),
 /// which steers COBYLA away without stopping it. `on_evaluation` (optional) is called after
 /// every run.
-OptimizeResult optimize(const sim::Case& base, const std::vector<Bounds>& bounds,
+OptimizeResult optimize(const sim::Case& base, const std::vector<sim::Bounds>& bounds,
                         const Runner& runner, const OptimizeOptions& options,
                         const std::function<void(const Evaluation&)>& on_evaluation = {});
 

@@ -70,7 +70,7 @@ class Journal {
   /// Reads an earlier sweep.csv (keeping its good rows: grid rows into `lines`, others into
   /// `foreign`), rewrites it clean and opens it for appending. "" or the reason.
   std::string open(const std::filesystem::path& csv, const std::string& header_line,
-                   const Grid& grid, std::vector<std::optional<std::string>>& lines,
+                   const sim::Grid& grid, std::vector<std::optional<std::string>>& lines,
                    std::vector<std::string>& foreign, SweepReport& report) {
     csv_ = csv;
     std::error_code ec;
@@ -256,7 +256,7 @@ std::string check_key(const std::filesystem::path& dir, const std::string& key, 
 
 }  // namespace
 
-std::string sweep_key(const sim::Case& base, const Grid& grid) {
+std::string sweep_key(const sim::Case& base, const sim::Grid& grid) {
   sim::Case c = base;
   for (const auto& a : grid.axes()) {
     const auto dot = a.key.rfind('.');
@@ -279,7 +279,7 @@ Runner case_runner() {
   return [](const sim::Case& c) { return sim::run_case(c, sim::RunOptions{}); };
 }
 
-std::vector<std::string> sweep_header(const sim::Case& base, const Grid& grid) {
+std::vector<std::string> sweep_header(const sim::Case& base, const sim::Grid& grid) {
   std::vector<std::string> h;
   for (const auto& a : grid.axes()) h.push_back(a.key);
   for (const auto& c : summary_columns(base)) h.push_back(c);
@@ -288,7 +288,7 @@ std::vector<std::string> sweep_header(const sim::Case& base, const Grid& grid) {
   return h;
 }
 
-std::vector<std::string> sweep_row(const sim::Case& base, const Grid& grid, std::size_t i,
+std::vector<std::string> sweep_row(const sim::Case& base, const sim::Grid& grid, std::size_t i,
                                    const Runner& runner) {
   std::vector<std::string> row = grid.texts(i);
   std::vector<std::string> fields;
@@ -310,7 +310,7 @@ std::vector<std::string> sweep_row(const sim::Case& base, const Grid& grid, std:
   return row;
 }
 
-SweepReport run_sweep(const sim::Case& base, const Grid& grid, const Runner& runner,
+SweepReport run_sweep(const sim::Case& base, const sim::Grid& grid, const Runner& runner,
                       const SweepOptions& options) {
   const int rank = options.cluster ? options.cluster->rank() : 0;
   const int size = options.cluster ? options.cluster->size() : 1;

@@ -12,7 +12,7 @@
 
 #include "sim/case.hpp"
 #include "study/cluster.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 namespace pcsim::study {
 
@@ -49,18 +49,18 @@ struct SweepReport {
 };
 
 /// sweep.csv's header: the axis keys, summary_columns(base), status, error.
-std::vector<std::string> sweep_header(const sim::Case& base, const Grid& grid);
+std::vector<std::string> sweep_header(const sim::Case& base, const sim::Grid& grid);
 
 /// The fields of grid point i's row: its values, the flattened summary of runner(point case),
 /// "ok" and ""; or, if setting the values or the run throws, empty summary fields, "error" and
 /// the reason.
-std::vector<std::string> sweep_row(const sim::Case& base, const Grid& grid, std::size_t i,
+std::vector<std::string> sweep_row(const sim::Case& base, const sim::Grid& grid, std::size_t i,
                                    const Runner& runner);
 
 /// The journal key of a sweep: the pcsim version, the model's fingerprint, the varied keys and
 /// the complete effective case (after overrides) without the varied keys. Rows in sweep.csv are
 /// reused only while out_dir/sweep.key holds the same text.
-std::string sweep_key(const sim::Case& base, const Grid& grid);
+std::string sweep_key(const sim::Case& base, const sim::Grid& grid);
 
 /// Runs every point of `grid` not yet in out_dir/sweep.csv and leaves sweep.csv holding the
 /// header and one row per grid point in grid order (then any earlier rows not on this grid).
@@ -81,7 +81,7 @@ std::string sweep_key(const sim::Case& base, const Grid& grid);
 /// With a multi-rank cluster, rank 0 owns the file; the pending points are dealt out
 /// round-robin (pending[k] goes to rank k mod size), every rank runs its share with `jobs`
 /// threads and sends finished rows to rank 0. Every rank returns the same report.
-SweepReport run_sweep(const sim::Case& base, const Grid& grid, const Runner& runner,
+SweepReport run_sweep(const sim::Case& base, const sim::Grid& grid, const Runner& runner,
                       const SweepOptions& options);
 
 }  // namespace pcsim::study

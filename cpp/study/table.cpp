@@ -9,7 +9,7 @@
 #include "common/format.hpp"
 #include "sim/client.hpp"
 #include "sim/run.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 namespace pcsim::study {
 

@@ -12,7 +12,7 @@
 // With --exact every number must be equal to the last bit (for the erratum-7 check that the
 // printed rolling sign reproduces the references computed before the erratum exactly).
 //
-// Usage: sieve_compare_summary [--exact] ACTUAL.json REFERENCE.json  (exit 0: agree, 1: differ)
+// Usage: case_compare_summary [--exact] ACTUAL.json REFERENCE.json  (exit 0: agree, 1: differ)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

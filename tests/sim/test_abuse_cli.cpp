@@ -37,7 +37,8 @@ using pcsim_test::has;
 // A full disk, imitated by a file-size limit (RLIMIT_FSIZE; SIGXFSZ ignored so write() fails
 // with EFBIG): the run fails naming the file and the system's reason, not "Success", and the
 // output directory holds neither file.
-BOOST_AUTO_TEST_CASE(full_disk_leaves_neither_file_and_says_why) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(full_disk_leaves_neither_file_and_says_why, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   TempDir d;
   const Result r = sh("trap '' XFSZ; ulimit -f 200; '" + exe() + "' run '" + kCase +
                           "' --set solver.t_end=1 --out res",
@@ -94,7 +95,8 @@ BOOST_AUTO_TEST_CASE(a_directory_is_not_a_case_file) {
 
 // best.toml is a case of its own: running it writes out/<case>-optimized, not over the original
 // case's out/<case>.
-BOOST_AUTO_TEST_CASE(optimized_case_has_its_own_name) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(optimized_case_has_its_own_name, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   TempDir d;
   const Result r = sh("'" + exe() + "' optimize '" + kCase +
                           "' --set solver.t_end=0.05 --vary parameters.e=0.009:0.011 --max-evals 2 "

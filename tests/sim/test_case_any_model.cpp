@@ -190,3 +190,17 @@ BOOST_AUTO_TEST_CASE(output_directory_is_replaced_whole_and_locked) {
   BOOST_TEST(has(msg, "not a pcsim output directory"), msg);
   BOOST_TEST(fs::exists(mine / "thesis.tex"));
 }
+
+// A case without `model` is a case of the default model an application registered (the sieve's
+// in the pcsim executable); the case layer alone has none, and says so, naming the file and
+// the key.
+BOOST_AUTO_TEST_CASE(a_case_without_model_needs_a_registered_default_model) {
+  try {
+    pcsim::sim::load_case_text("[solver]\nt_end = 0.1\n", "no_model.toml");
+    BOOST_FAIL("a case without model loaded without a default model");
+  } catch (const pcsim::InputError& e) {
+    const std::string what = e.what();
+    BOOST_TEST(what.find("no_model.toml") != std::string::npos, what);
+    BOOST_TEST(what.find("key 'model'") != std::string::npos, what);
+  }
+}

@@ -106,7 +106,8 @@ BOOST_AUTO_TEST_CASE(hostile_directory_names_given_to_plot) {
 }
 
 // pcsim study incline used std::system and pasted the case name into its gnuplot script.
-BOOST_AUTO_TEST_CASE(incline_study_with_a_hostile_case_name_runs_nothing) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(incline_study_with_a_hostile_case_name_runs_nothing, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   Scratch s("files_incline");
   for (const std::string name : {"x\"; system(\"touch PWNED\"); #", "x''''; system('touch PWNED'); print ''''"}) {
     std::ofstream(s.work / "c.toml") << "name = " << files_test::toml_string(name)
@@ -123,7 +124,8 @@ BOOST_AUTO_TEST_CASE(incline_study_with_a_hostile_case_name_runs_nothing) {
 // A name is a file name, not a path: every command refuses the issue's "" and
 // "../../escaped" and their variants with exit 2, naming the file and the key, and writes
 // nothing (no out/ at all, nothing outside).
-BOOST_AUTO_TEST_CASE(case_names_that_are_not_file_names_are_refused_by_every_command) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(case_names_that_are_not_file_names_are_refused_by_every_command, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   Scratch s("files_badnames");
   const std::vector<std::string> bad = {"", ".", "..", "../../escaped", "a/b", "/abs", "a\\b", "..\\x",
                                         "x\ny", "tab\t", std::string("nul\0x", 5), "\x7f", ".hidden",
@@ -163,7 +165,8 @@ BOOST_AUTO_TEST_CASE(case_names_that_are_not_file_names_are_refused_by_every_com
 // a sweep or optimize never writes into a run's directory, a run never replaces a sweep's (its
 // journal survives), and no command writes into or replaces a user's directory, the current
 // directory or a parent.
-BOOST_AUTO_TEST_CASE(commands_own_their_directories_and_refuse_each_others) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(commands_own_their_directories_and_refuse_each_others, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   Scratch s("files_owner");
   std::ofstream(s.work / "c.toml") << "name = \"c\"\nmodel = \"sieve\"\n[solver]\nt_end = 0.05\n";
   BOOST_TEST_REQUIRE(run_pcsim({"run", "c.toml", "--out", "r"}, s.work).status == 0);

@@ -189,7 +189,8 @@ BOOST_AUTO_TEST_CASE(steady_refuses_too_many_rows_before_work) {
 // rtol and atol have upper bounds (exit 2, naming the key); atol within the bound but above a
 // hundredth of a coordinate's magnitude (the sieve's 2e-5 m) makes the result unreliable:
 // exit 3, the files written with "accuracy": {"reliable": false}, never a confident verdict.
-BOOST_AUTO_TEST_CASE(tolerances_that_cannot_give_the_digits_are_refused_or_flagged) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(tolerances_that_cannot_give_the_digits_are_refused_or_flagged, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   TempDir d;
   const std::string sieve = kSource + "/cases/sieve_1995.toml";
   for (const char* set : {"solver.rtol=0.01", "solver.rtol=1", "solver.atol=1", "solver.atol=0.5"}) {
@@ -251,7 +252,8 @@ BOOST_AUTO_TEST_CASE(step_budget_messages_count_in_the_right_number_and_keep_the
 
 // pcsim response --vary initial.x: an initial value cannot change a periodic orbit (a flat
 // curve): refused, as is a parameter that enters nothing; a real parameter is accepted.
-BOOST_AUTO_TEST_CASE(response_refuses_keys_that_cannot_move_the_orbit) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(response_refuses_keys_that_cannot_move_the_orbit, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   TempDir d;
   write(d.path / "osc.toml", oscillator(1.0));
   for (const char* vary : {"initial.x=0,1,2", "initial.x_d=0,1", "parameters.unused=1,2,3"}) {
@@ -273,7 +275,8 @@ BOOST_AUTO_TEST_CASE(response_refuses_keys_that_cannot_move_the_orbit) {
 // The shipped hopping case: f* is undefined in flight (0/0); its field is empty, never "-nan".
 // Variant: an output that is 0/0 or 1/0 at times writes empty fields, and the summary holds no
 // NaN either (JSON null).
-BOOST_AUTO_TEST_CASE(no_nan_or_inf_token_in_a_time_series) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(no_nan_or_inf_token_in_a_time_series, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   TempDir d;
   const Result r = sh("'" + exe() + "' run '" + kSource +
                           "/cases/sieve_1995_hopping.toml' --set solver.t_end=0.3 --out hop",

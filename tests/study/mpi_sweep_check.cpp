@@ -7,11 +7,12 @@
 
 #include "study/cluster.hpp"
 #include "study/sweep.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 #include "study_fixtures.hpp"
 
 int main() {
   using namespace pcsim::study;
+  using namespace pcsim::sim;
   Cluster cluster;
   if (cluster.size() != 2) {
     std::fprintf(stderr, "mpi_sweep_check: expected 2 ranks, got %d\n", cluster.size());

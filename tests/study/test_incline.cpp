@@ -5,11 +5,13 @@
 
 #include <limits>
 
-#include "study/incline.hpp"
+#include "sieve/incline/incline.hpp"
 #include "study/table.hpp"
 #include "study_fixtures.hpp"
 
 using namespace pcsim::study;
+using namespace pcsim::sim;
+using namespace pcsim::sieve;
 
 BOOST_AUTO_TEST_CASE(default_axis_spans_the_deck_minus_the_roller_radius) {
   const auto dir = study_test::scratch("incline_axis");

@@ -9,6 +9,8 @@
 #include "study_fixtures.hpp"
 
 using namespace pcsim::study;
+using pcsim::sim::Bounds;
+using pcsim::sim::parse_bounds;
 
 namespace {
 

@@ -7,13 +7,15 @@
 #include <filesystem>
 
 #include "sim/run.hpp"
-#include "study/incline.hpp"
+#include "sieve/incline/incline.hpp"
 #include "study/optimize.hpp"
 #include "study/sweep.hpp"
 #include "study/table.hpp"
 #include "study_fixtures.hpp"
 
 using namespace pcsim::study;
+using namespace pcsim::sim;
+using namespace pcsim::sieve;
 
 namespace {
 pcsim::sim::Case paper_case() {

@@ -9,10 +9,11 @@
 
 #include "study/sweep.hpp"
 #include "study/table.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 #include "study_fixtures.hpp"
 
 using namespace pcsim::study;
+using namespace pcsim::sim;
 using study_test::FakeRunner;
 using study_test::slurp;
 

@@ -5,10 +5,10 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 #include "study_fixtures.hpp"
 
-using namespace pcsim::study;
+using namespace pcsim::sim;
 
 namespace {
 

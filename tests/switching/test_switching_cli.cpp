@@ -14,7 +14,8 @@
 
 using namespace switching_cli;
 
-BOOST_AUTO_TEST_CASE(run_writes_events_and_mode_columns_and_reports_the_hops) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(run_writes_events_and_mode_columns_and_reports_the_hops, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   TempDir dir("switching_cli");
   const fs::path out = dir.path / "hop";
   const Result r = pcsim("run cases/sieve_1995_hopping.toml --set solver.t_end=0.5 --out '" + out.string() + "'");
@@ -57,7 +58,8 @@ BOOST_AUTO_TEST_CASE(a_missing_lcp_library_is_named_only_when_an_lcp_is_needed) 
   BOOST_TEST(b.status == 0, b.out);
 }
 
-BOOST_AUTO_TEST_CASE(impossible_combinations_are_refused_before_computing) {
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(impossible_combinations_are_refused_before_computing, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
   struct Bad {
     std::string args, key;
   };

@@ -1,5 +1,5 @@
 // Parsing and checking of --vary specifications; the grid they span.
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 #include <charconv>
 #include <cstdio>
@@ -11,7 +11,7 @@
 
 #include "common/error.hpp"
 
-namespace pcsim::study {
+namespace pcsim::sim {
 
 namespace {
 
@@ -203,4 +203,4 @@ sim::Case Grid::point_case(const sim::Case& base, std::size_t i) const {
   return c;
 }
 
-}  // namespace pcsim::study
+}  // namespace pcsim::sim

@@ -9,7 +9,7 @@
 #include "common/format.hpp"
 #include "sim/case.hpp"
 
-namespace pcsim::study {
+namespace pcsim::sim {
 
 /// One varied case key and the values it takes, as the exact text given to sim::set_value
 /// and written to sweep.csv (shortest round-trip decimal for numbers, so the CSV value parses
@@ -73,4 +73,4 @@ class Grid {
 /// span; throws pcsim::InputError before anything runs.
 Grid make_grid(const std::vector<std::string>& specs, const sim::Case& base);
 
-}  // namespace pcsim::study
+}  // namespace pcsim::sim

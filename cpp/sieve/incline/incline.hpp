@@ -1,5 +1,6 @@
 // `pcsim study incline`: the paper's question, how the desk's incline vibration theta changes
 // the roller's working conditions. Every design point runs twice, theta free and theta locked.
+// The sieve's study, built on the generic sweep (cpp/study/sweep.hpp).
 #pragma once
 
 #include <filesystem>
@@ -9,15 +10,15 @@
 #include "sim/case.hpp"
 #include "study/cluster.hpp"
 #include "study/sweep.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
-namespace pcsim::study {
+namespace pcsim::sieve {
 
 /// The default design axis: the roller's initial position initial.s0 across the deck, from
 /// -(a - r) to +(a - r) in 9 points. The model fixes no deck length; the desk's outermost
 /// attachment is the horizontal spring at xi = a (0.5 m), so the deck is taken as
 /// [-a, a] and the roller (radius r) kept on it. If a <= r, the range is [-a, a].
-Axis default_incline_axis(const sim::Case& base);
+sim::Axis default_incline_axis(const sim::Case& base);
 
 /// Throws pcsim::InputError unless the case's model is the built-in sieve (the study needs its
 /// constraints.lock_theta and margins), naming the key and the reason.
@@ -30,7 +31,7 @@ struct InclineOptions {
   std::filesystem::path out_dir = "out/incline";
   unsigned jobs = 0;                  ///< threads per rank; 0 = all cores
   bool progress = false;              ///< progress bar on stderr
-  const Cluster* cluster = nullptr;   ///< MPI ranks; null = this process alone
+  const study::Cluster* cluster = nullptr;   ///< MPI ranks; null = this process alone
   bool plot = true;                   ///< run gnuplot for incline.png
   bool restart = false;               ///< see SweepOptions::restart
 };
@@ -38,7 +39,7 @@ struct InclineOptions {
 struct InclineReport {
   bool ok = true;
   std::string error;                  ///< why it failed (I/O); points that fail are rows
-  SweepReport sweep;                  ///< the underlying sweep (out_dir/sweep.csv)
+  study::SweepReport sweep;                  ///< the underlying sweep (out_dir/sweep.csv)
   std::filesystem::path table;        ///< out_dir/incline.csv
   std::filesystem::path plot;         ///< out_dir/incline.png ("" if not drawn)
   std::string plot_error;             ///< why the plot was not drawn, if it was not
@@ -53,7 +54,7 @@ struct InclineReport {
 /// makes that working condition worse) and the theta amplitude; and, with plot, the gnuplot
 /// script incline.gp and its figure incline.png (x axis: the first design key). Rank 0
 /// writes incline.csv and the figure.
-InclineReport run_incline_study(const sim::Case& base, const std::vector<Axis>& design_axes,
-                                const Runner& runner, const InclineOptions& options);
+InclineReport run_incline_study(const sim::Case& base, const std::vector<sim::Axis>& design_axes,
+                                const study::Runner& runner, const InclineOptions& options);
 
-}  // namespace pcsim::study
+}  // namespace pcsim::sieve

@@ -1,4 +1,5 @@
-// `pcsim study incline`: theta free vs theta locked over design points (table and figure).
+// `pcsim study incline`: theta free vs theta locked over design points (table and figure); a
+// command of the sieve application (compiled into pcsim with it, cmake/app.cmake).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -10,9 +11,9 @@
 #include "common/error.hpp"
 #include "sim/case.hpp"
 #include "study/cluster.hpp"
-#include "study/incline.hpp"
+#include "sieve/incline/incline.hpp"
 #include "study/progress.hpp"
-#include "study/vary.hpp"
+#include "sim/vary.hpp"
 
 namespace {
 
@@ -36,30 +37,30 @@ void run_incline(const InclineArgs& a) {
                               "remove the override");
   }
   const pcsim::sim::Case base = pcsim::sim::load_case(a.case_file, overrides);
-  pcsim::study::check_incline_case(base);
-  std::vector<pcsim::study::Axis> axes;
+  pcsim::sieve::check_incline_case(base);
+  std::vector<pcsim::sim::Axis> axes;
   if (a.vary.empty()) {
-    axes.push_back(pcsim::study::default_incline_axis(base));
+    axes.push_back(pcsim::sieve::default_incline_axis(base));
   } else {
     for (const auto& v : a.vary) {
-      axes.push_back(pcsim::study::parse_vary(v, base));
+      axes.push_back(pcsim::sim::parse_vary(v, base));
       if (axes.back().key == "constraints.lock_theta")
         throw pcsim::InputError("--vary: the incline study varies constraints.lock_theta itself");
     }
     std::vector<std::string> keys;
     for (const auto& ax : axes) keys.push_back(ax.key);
-    pcsim::study::check_distinct_keys(keys);
+    pcsim::sim::check_distinct_keys(keys);
   }
 
   pcsim::study::Cluster cluster;
-  pcsim::study::InclineOptions options;
+  pcsim::sieve::InclineOptions options;
   options.out_dir = a.out.empty() ? "out/" + base.name + "-incline" : a.out;
   options.jobs = a.jobs;
   options.progress = pcsim::study::stderr_is_terminal();
   options.cluster = &cluster;
   options.plot = !a.no_plot;
   options.restart = a.restart;
-  const auto r = pcsim::study::run_incline_study(base, axes, pcsim::study::case_runner(), options);
+  const auto r = pcsim::sieve::run_incline_study(base, axes, pcsim::study::case_runner(), options);
   if (!r.ok) throw pcsim::InputError(r.error);
   if (cluster.rank() != 0) return;
   std::printf("study incline: %zu design points x (theta free, theta locked): %zu run now, %zu "

@@ -1,5 +1,5 @@
-// The incline study: theta free vs locked over design points, table and gnuplot figure.
-#include "study/incline.hpp"
+// The sieve's incline study: theta free vs locked over design points, table and gnuplot figure.
+#include "sieve/incline/incline.hpp"
 
 #include <cstdlib>
 #include <fstream>
@@ -11,7 +11,9 @@
 #include "common/gnuplot.hpp"
 #include "study/table.hpp"
 
-namespace pcsim::study {
+namespace pcsim::sieve {
+
+using namespace study;  // the sweep, its table and its runner
 
 namespace {
 
@@ -79,12 +81,12 @@ void check_incline_case(const sim::Case& base) {
                      "with --vary on a constraint switch instead");
 }
 
-Axis default_incline_axis(const sim::Case& base) {
+sim::Axis default_incline_axis(const sim::Case& base) {
   const double a = base.table.at_path("parameters.a").value_or(0.5);
   const double r = base.table.at_path("parameters.r").value_or(0.1);
   const double half = a > r ? a - r : a;
-  Axis axis{"initial.s0", {}};
-  for (int i = 0; i < 9; ++i) axis.texts.push_back(format_number(round_decimal(-half + 2.0 * half * i / 8.0)));
+  sim::Axis axis{"initial.s0", {}};
+  for (int i = 0; i < 9; ++i) axis.texts.push_back(format_number(sim::round_decimal(-half + 2.0 * half * i / 8.0)));
   return axis;
 }
 
@@ -96,13 +98,13 @@ const std::vector<std::string>& incline_columns() {
   return c;
 }
 
-InclineReport run_incline_study(const sim::Case& base, const std::vector<Axis>& design_axes,
+InclineReport run_incline_study(const sim::Case& base, const std::vector<sim::Axis>& design_axes,
                                 const Runner& runner, const InclineOptions& options) {
   InclineReport report;
   check_incline_case(base);
-  std::vector<Axis> axes = design_axes;
-  axes.push_back(Axis{kLockKey, {"false", "true"}});
-  const Grid grid(axes);
+  std::vector<sim::Axis> axes = design_axes;
+  axes.push_back(sim::Axis{kLockKey, {"false", "true"}});
+  const sim::Grid grid(axes);
   SweepOptions so;
   so.out_dir = options.out_dir;
   so.jobs = options.jobs;
@@ -192,4 +194,4 @@ InclineReport run_incline_study(const sim::Case& base, const std::vector<Axis>& 
   return report;
 }
 
-}  // namespace pcsim::study
+}  // namespace pcsim::sieve
