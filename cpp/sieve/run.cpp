@@ -2,8 +2,10 @@
 // extremes of the paper's signals, the contracted summary keys and the engineer's report.
 #include "sieve/run.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <limits>
 #include <sstream>
 #include <vector>
@@ -14,6 +16,8 @@
 #include "sieve/model.hpp"
 #include "sieve/settings.hpp"
 #include "sim/extremes.hpp"
+#include "sim/file_source.hpp"
+#include "sim/run.hpp"
 #include "sim/switching_summary.hpp"
 
 namespace pcsim::sieve {
@@ -27,15 +31,46 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Signals tracked over the summary window, by index.
 enum Signal { sig_x, sig_y, sig_theta, sig_Ru, sig_fstar, sig_count };
 
-double signal(const mech::Sample& smp, int which) {
-  switch (which) {
-    case sig_x: return smp.q(0);
-    case sig_y: return smp.q(1);
-    case sig_theta: return smp.q(2);
-    case sig_Ru: return smp.R(4);
-    default: return smp.derived(0);
-  }
+// Where the sieve's quantities are in a sample, resolved once by name from the model
+// (models/sieve_1995.toml): the coordinates x, y, theta, s, u (q, and R of the same index: R_u
+// is the reaction on u) and the output fstar.
+struct Layout {
+  int x = 0, y = 0, theta = 0, s = 0, u = 0, fstar = 0;
+};
+
+int index_of(const std::vector<std::string>& names, const char* name) {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<int>(i);
+  throw std::logic_error(std::string("the sieve's model has no '") + name + "'");
 }
+
+const Layout& layout() {
+  static const Layout l = [] {
+    const auto m = sim::embedded_description("sieve_1995");
+    Layout r;
+    r.x = index_of(m->coordinates(), "x");
+    r.y = index_of(m->coordinates(), "y");
+    r.theta = index_of(m->coordinates(), "theta");
+    r.s = index_of(m->coordinates(), "s");
+    r.u = index_of(m->coordinates(), "u");
+    std::vector<std::string> outputs;
+    for (const auto& o : m->outputs()) outputs.push_back(o.name);
+    r.fstar = index_of(outputs, "fstar");
+    return r;
+  }();
+  return l;
+}
+
+// What a sieve run's verdicts and summary read, from the typed setup (built once per run).
+struct RunSettings {
+  Layout at;
+  double a = 0, f = 0, m2 = 0, g = 0, e_n = 0;
+  sim::ParameterValues parameters;  // for the assumptions
+  double s0 = 0, t_end = 0;         // the roller's initial position; the run's end
+  bool contact = false, rolling = false, rolling_as_printed = false, lock_theta = false;
+  bool switching = false;           // contact.switching (issue 12)
+  double w0 = 0, w1 = 0;            // the summary window (sim::summary_window)
+};
 
 // A first violation time over the whole run, found on the samples and then located by
 // bisection on the dense output of the step where it occurred.
@@ -47,25 +82,25 @@ struct Verdict {
 
 class SieveMonitor final : public sim::ClientMonitor {
  public:
-  SieveMonitor(SieveSettings set, double w0, double w1, bool switching, double e_n)
-      : set_(std::move(set)), w0_(w0), w1_(w1), switching_(switching), e_n_(e_n) {
-    contact_.active = set_.constraints.contact;
-    rolling_.active = set_.constraints.contact && set_.constraints.rolling;
+  explicit SieveMonitor(RunSettings set) : set_(std::move(set)), at_(set_.at), w0_(set_.w0), w1_(set_.w1) {
+    contact_.active = set_.contact;
+    rolling_.active = set_.contact && set_.rolling;
   }
 
   bool observe(const mech::StepView& v) override {
     if (v.t == v.t_prev) {  // the consistent initial state
       const mech::Sample s0 = v.at(v.t);
       whole_run(v, s0, s0.t);
-      ru_prev_ = s0.R(4);
-      ru_scale_ = std::abs(s0.R(4));
-      fstar_prev_ = s0.derived(0);
+      ru_prev_ = ru(s0);
+      ru_scale_ = std::abs(ru(s0));
+      fstar_prev_ = fstar(s0);
       return true;
     }
     // The roller's contact point must stay on the deck, xi in [-a, a] (docs/sieve.md): beyond
     // it the model (a roller on an endless plane) no longer describes the machine.
-    const double deck = std::abs(set_.p.a);
-    auto off_deck = [deck](const mech::Sample& x) { return std::abs(x.q(3)) > deck; };
+    const double deck = std::abs(set_.a);
+    const int is = at_.s;
+    auto off_deck = [deck, is](const mech::Sample& x) { return std::abs(x.q(is)) > deck; };
     if (off_deck(v.sample(v.t))) {
       double lo = v.t_prev, hi = v.t;
       for (int it = 0; it < 60 && hi - lo > 1e-13 * std::max(1.0, std::abs(hi)); ++it) {
@@ -81,9 +116,9 @@ class SieveMonitor final : public sim::ClientMonitor {
     // below a quarter of its largest value so far, or f* above 3/4 of f): a smooth signal
     // cannot dip from there to the limit and back within one step (~1/25 of a period) unseen.
     const mech::Sample end = v.at(v.t);
-    ru_scale_ = std::max(ru_scale_, std::abs(end.R(4)));
-    const bool near = (contact_.active && std::min(end.R(4), ru_prev_) < 0.25 * ru_scale_) ||
-                      (rolling_.active && std::max(end.derived(0), fstar_prev_) > 0.75 * set_.p.f);
+    ru_scale_ = std::max(ru_scale_, std::abs(ru(end)));
+    const bool near = (contact_.active && std::min(ru(end), ru_prev_) < 0.25 * ru_scale_) ||
+                      (rolling_.active && std::max(fstar(end), fstar_prev_) > 0.75 * set_.f);
     if (near) {
       const double mid = 0.5 * (v.t_prev + v.t);
       whole_run(v, v.at(mid), v.t_prev);
@@ -91,8 +126,8 @@ class SieveMonitor final : public sim::ClientMonitor {
     } else {
       whole_run(v, end, v.t_prev);
     }
-    ru_prev_ = end.R(4);
-    fstar_prev_ = end.derived(0);
+    ru_prev_ = ru(end);
+    fstar_prev_ = fstar(end);
     if (v.t > w0_) window(v);
     return true;
   }
@@ -102,7 +137,7 @@ class SieveMonitor final : public sim::ClientMonitor {
 
   void finish(const mech::SimulationResult& res, const std::map<std::string, sim::ColumnExtremes>&,
               nlohmann::json& j) override {
-    const double weight = set_.p.m2 * set_.p.g;
+    const double weight = set_.m2 * set_.g;
     const std::string variant = j.value("model_variant", std::string());
     j["model_form"] = variant.empty() ? std::string("model_file") : variant;
     auto half_pp = [&](int sig) { return 0.5 * (maxima_[sig].value + minima_[sig].value); };
@@ -119,7 +154,7 @@ class SieveMonitor final : public sim::ClientMonitor {
     j["fstar_max"] = null_if_nan(fstar_max);
     // A refined window minimum below zero is a violation even if no sample saw it.
     if (contact_.active && !contact_.violated() && !(ru_min > 0)) contact_.first = minima_[sig_Ru].time;
-    if (rolling_.active && !rolling_.violated() && !(fstar_max < set_.p.f))
+    if (rolling_.active && !rolling_.violated() && !(fstar_max < set_.f))
       rolling_.first = maxima_[sig_fstar].time;
     auto verdict = [](const Verdict& v) {
       return v.active ? nlohmann::json(!v.violated()) : nlohmann::json(nullptr);
@@ -132,7 +167,7 @@ class SieveMonitor final : public sim::ClientMonitor {
         std::max({residual_max_, res.residual_pos_max, res.residual_vel_max});
     // Margins: (3.1) min R_u/(m2 g) (> 0 kept); (3.2) 1 - max f*/f (> 0 kept).
     const double contact_margin = contact_.active ? ru_min / weight : kNaN;
-    const double rolling_margin = rolling_.active ? 1.0 - fstar_max / set_.p.f : kNaN;
+    const double rolling_margin = rolling_.active ? 1.0 - fstar_max / set_.f : kNaN;
     std::string closer = "n/a";
     // Once R_u <= 0 the friction ratio is undefined (f* = inf): the contact is what failed.
     if (contact_.active && rolling_.active)
@@ -142,31 +177,22 @@ class SieveMonitor final : public sim::ClientMonitor {
                     {"rolling", null_if_nan(rolling_margin)},
                     {"closer_to_violation", closer}};
     std::vector<std::string> active;
-    if (set_.constraints.contact) active.push_back("contact");
-    if (set_.constraints.rolling) active.push_back("rolling");
-    if (set_.constraints.lock_theta) active.push_back("lock_theta");
+    if (set_.contact) active.push_back("contact");
+    if (set_.rolling) active.push_back("rolling");
+    if (set_.lock_theta) active.push_back("lock_theta");
     nlohmann::json as;
     as["note"] =
         "parameters the 1995 paper does not print: the project's documented defaults "
         "(docs/sieve-model.md, section 5) unless the case file sets them";
-    as["parameters.g"] = set_.p.g;
-    as["parameters.x0"] = set_.p.x0;
-    as["parameters.y0"] = set_.p.y0;
-    as["parameters.yc"] = set_.p.yc;
-    as["parameters.b"] = set_.p.b;
-    as["parameters.yb"] = set_.p.yb;
-    as["parameters.a"] = set_.p.a;
-    as["parameters.xc"] = set_.p.xc;
-    as["parameters.xb"] = set_.p.xb;
-    as["parameters.u0"] = set_.p.u0;
-    as["initial.s0"] = set_.q0[3];
-    as["parameters.f"] = set_.p.f;
-    as["solver.t_end"] = set_.solver.t_end;
+    for (const char* p : {"g", "x0", "y0", "yc", "b", "yb", "a", "xc", "xb", "u0", "f"})
+      as[std::string("parameters.") + p] = set_.parameters.at(p);
+    as["initial.s0"] = set_.s0;
+    as["solver.t_end"] = set_.t_end;
     as["initial_state"] = "q = (0, 0, 0, s0, u0, 0), q_d = 0 unless [initial] sets them";
     as["constraints"] = active;
-    if (switching_) as["parameters.e_n"] = e_n_;  // the landing's restitution (issue 12)
+    if (set_.switching) as["parameters.e_n"] = set_.e_n;  // the landing's restitution (issue 12)
     j["assumptions"] = as;
-    j["rolling_condition"] = set_.constraints.rolling_as_printed
+    j["rolling_condition"] = set_.rolling_as_printed
                                  ? "s - r phi = const (as printed in (3.2); not physical rolling)"
                                  : "s + r phi = const (erratum 7 of (3.2))";
   }
@@ -176,12 +202,24 @@ class SieveMonitor final : public sim::ClientMonitor {
     return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
   }
 
-  bool contact_violated(const mech::Sample& s) const { return !(s.R(4) > 0); }
+  double ru(const mech::Sample& s) const { return s.R(at_.u); }
+  double fstar(const mech::Sample& s) const { return s.derived(at_.fstar); }
+  double signal(const mech::Sample& s, int which) const {
+    switch (which) {
+      case sig_x: return s.q(at_.x);
+      case sig_y: return s.q(at_.y);
+      case sig_theta: return s.q(at_.theta);
+      case sig_Ru: return ru(s);
+      default: return fstar(s);
+    }
+  }
+
+  bool contact_violated(const mech::Sample& s) const { return !(ru(s) > 0); }
   bool rolling_violated(const mech::Sample& s) const {
     // With switching, a roller in flight has no contact force at all (f* = 0/0): nothing rolls
     // or slips there; its rolling verdict fails only when it slides (f* = f).
-    if (switching_ && s.R(4) == 0.0 && s.R(3) == 0.0) return false;
-    return !(s.derived(0) < set_.p.f);
+    if (set_.switching && ru(s) == 0.0 && s.R(at_.s) == 0.0) return false;
+    return !(fstar(s) < set_.f);
   }
 
   // Locates the first violation in (a, b] where a is fine and b violates.
@@ -195,7 +233,7 @@ class SieveMonitor final : public sim::ClientMonitor {
   }
 
   void whole_run(const mech::StepView& v, const mech::Sample& s, double t_ok) {
-    theta_abs_max_run_ = std::max(theta_abs_max_run_, std::abs(s.q(2)));
+    theta_abs_max_run_ = std::max(theta_abs_max_run_, std::abs(s.q(at_.theta)));
     residual_max_ = std::max({residual_max_, s.residual_pos, s.residual_vel});
     auto cv = [this](const mech::Sample& x) { return contact_violated(x); };
     auto rv = [this](const mech::Sample& x) { return rolling_violated(x); };
@@ -228,16 +266,15 @@ class SieveMonitor final : public sim::ClientMonitor {
     // ∫ θ over [a, b] by 3-point Gauss-Legendre: exact for polynomials of degree <= 5, and the
     // dense output of q on one step is a polynomial of degree 3 (the collocation polynomial).
     const double c = 0.5 * (a + b), hw = 0.5 * (b - a), r = std::sqrt(0.6);
-    const double th0 = v.sample(c - hw * r).q(2);
-    const double th1 = v.sample(c).q(2);
-    const double th2 = v.sample(c + hw * r).q(2);
+    const double th0 = v.sample(c - hw * r).q(at_.theta);
+    const double th1 = v.sample(c).q(at_.theta);
+    const double th2 = v.sample(c + hw * r).q(at_.theta);
     theta_integral_ += hw * (5.0 / 9.0 * th0 + 8.0 / 9.0 * th1 + 5.0 / 9.0 * th2);
   }
 
-  SieveSettings set_;
+  RunSettings set_;
+  Layout at_;
   double w0_, w1_;
-  bool switching_ = false;  // contact.switching (issue 12)
-  double e_n_ = 0.0;
   RunningMax maxima_[sig_count], minima_[sig_count];  // minima hold the negated signal
   double theta_integral_ = 0.0;  // ∫ θ dt over the window (Gauss-Legendre per step)
   double theta_abs_max_run_ = 0.0;
@@ -336,29 +373,42 @@ class SieveClient final : public sim::Client {
     }
   }
 
+  // initial.s0 is the roller's initial position s (unless initial.s gives it; validate checks
+  // that they agree), and the roller starts on the deck, u = u0, unless initial.u says otherwise.
   void adjust(const toml::table& t, sim::Setup& s) const override {
-    const SieveSettings set = settings_from_table(t);
-    for (int i = 0; i < 6; ++i) {
-      s.q0[i] = set.q0[i];
-      s.qd0[i] = set.qd0[i];
-    }
+    const Layout& at = layout();
+    const toml::node_view<const toml::node> ini = t["initial"];
+    if (!ini["s"]) s.q0[at.s] = *ini["s0"].value<double>();
+    if (!ini["u"]) s.q0[at.u] = s.parameters.at("u0");
     // The printed rolling sign is the model's constraint rolling_printed.
-    if (set.constraints.rolling_as_printed)
+    if (*t["constraints"]["rolling_as_printed"].value<bool>())
       for (auto& name : s.active)
         if (name == "rolling") name = "rolling_printed";
   }
 
   std::unique_ptr<sim::ClientMonitor> monitor(const sim::Case& c, const sim::Setup& s) const override {
-    const SieveSettings set = settings_from_case(c);
-    double w0 = 0.0;
-    if (s.window.periods > 0) {
-      const double len = s.window.periods * s.period;
-      w0 = (std::isfinite(len) && len < s.t_end) ? s.t_end - len : 0.0;
-    } else {
-      w0 = s.window.time < s.t_end ? s.t_end - s.window.time : 0.0;
-    }
-    return std::make_unique<SieveMonitor>(set, w0, s.t_end, s.contact.switching,
-                                          c.table["parameters"]["e_n"].value_or(0.0));
+    RunSettings set;
+    set.at = layout();
+    set.parameters = s.parameters;
+    set.a = s.parameters.at("a");
+    set.f = s.parameters.at("f");
+    set.m2 = s.parameters.at("m2");
+    set.g = s.parameters.at("g");
+    set.e_n = s.parameters.at("e_n");
+    set.s0 = s.q0[set.at.s];
+    set.t_end = s.t_end;
+    auto active = [&s](const char* name) {
+      return std::find(s.active.begin(), s.active.end(), name) != s.active.end();
+    };
+    set.contact = active("contact");
+    set.rolling = active("rolling") || active("rolling_printed");
+    set.lock_theta = active("lock_theta");
+    set.rolling_as_printed = *c.table["constraints"]["rolling_as_printed"].value<bool>();
+    set.switching = s.contact.switching;
+    const sim::SummaryWindow w = sim::summary_window(s);
+    set.w0 = w.w0;
+    set.w1 = w.w1;
+    return std::make_unique<SieveMonitor>(std::move(set));
   }
 
   std::string report(const sim::Case& c, const nlohmann::json& s) const override;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <mutex>
+#include <stdexcept>
 
 #include "common/error.hpp"
 #include "sieve/model.hpp"
@@ -17,69 +18,31 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-sim::ParameterSpec par(const char* name, double value, const char* unit, const char* meaning,
-                       double min = -INFINITY, bool min_exclusive = false) {
-  sim::ParameterSpec p;
-  p.name = name;
-  p.value = value;
-  p.unit = unit;
-  p.meaning = meaning;
-  p.min = min;
-  p.min_exclusive = min_exclusive;
-  return p;
-}
-
 class SieveSource final : public sim::ModelSource {
  public:
   SieveSource() {
-    const SieveParameters d;
-    const double pos = 0.0;
-    parameters_ = {
-        // Printed in the paper.
-        par("m0", d.m0, "kg", "unbalanced mass", pos),
-        par("m1", d.m1, "kg", "desk mass", pos, true),
-        par("m2", d.m2, "kg", "roller mass", pos, true),
-        par("J0", d.J0, "kg m^2", "exciter inertia", pos),
-        par("J1", d.J1, "kg m^2", "desk inertia", pos, true),
-        par("J2", d.J2, "kg m^2", "roller inertia", pos, true),
-        par("r", d.r, "m", "roller radius", pos, true),
-        par("e", d.e, "m", "eccentricity", pos),
-        par("cx", d.cx, "N/m",
-            "vertical stiffness; > 0: it carries the static preload (m0 + m1 + m2) g / cx", pos,
-            true),
-        par("cy", d.cy, "N/m", "horizontal stiffness", pos),
-        par("ctheta", d.ctheta, "N m/rad", "torsional stiffness", pos),
-        par("bx", d.bx, "N s/m", "vertical damping", pos),
-        par("by", d.by, "N s/m", "horizontal damping", pos),
-        par("btheta", d.btheta, "N m s/rad", "torsional damping", pos),
-        par("omega", d.omega, "rad/s",
-            "excitation frequency; > 0: the sieve is driven by its exciter, and its summary "
-            "window is a number of excitation periods",
-            pos, true),
-        // Not printed: the project's documented defaults (assumptions).
-        par("g", d.g, "m/s^2",
-            "gravity; > 0: the contact margin min R_u/(m2 g) is relative to the roller's weight",
-            pos, true),
-        par("x0", d.x0, "m", "exciter axis eta"),
-        par("y0", d.y0, "m", "exciter axis xi"),
-        par("xc", d.xc, "m", "horizontal spring eta"),
-        par("yc", d.yc, "m", "vertical spring xi"),
-        par("xb", d.xb, "m", "horizontal damper eta"),
-        par("yb", d.yb, "m", "vertical damper xi"),
-        par("a", d.a, "m", "horizontal spring/damper xi"),
-        par("b", d.b, "m", "vertical spring/damper eta"),
-        par("u0", d.u0, "m", "roller centre height over C"),
-        par("f", d.f, "", "friction coefficient roller/deck", pos, true),
-        // Issue 12: the restitution of a landing when contacts switch (contact.switching).
-        // Not in the paper: the exciter's run-up for transient studies (docs/steady.md).
-        par("t_runup", 0.0, "s",
-            "exciter run-up time: its speed ramps from 0 to omega over it (models/"
-            "sieve_1995_runup.toml); 0: at full speed from t = 0, as in the paper",
-            pos),
-        // Issue 12: the restitution of a landing when contacts switch (contact.switching).
-        par("e_n", 0.0, "", "Newton's restitution roller/deck (with contact.switching)", pos),
+    // The parameters, their defaults, units, meanings and limits are the model file's
+    // (models/sieve_1995.toml), in the order of the case format (a case's keys are written in
+    // it, e.g. by to_toml). One is the sieve's own: t_runup selects the exciter's run-up model
+    // (models/sieve_1995_runup.toml, where it is > 0); 0, its default, is the paper's exciter
+    // at full speed from t = 0.
+    const auto file = sim::make_embedded_model_source("sieve", "sieve_1995");
+    const auto runup = sim::make_embedded_model_source("sieve", "sieve_1995_runup");
+    auto spec = [](const sim::ModelSource& m, const std::string& name) {
+      for (const auto& p : m.parameters())
+        if (p.name == name) return p;
+      throw std::logic_error("models/sieve_1995*.toml: no parameter " + name);
     };
-    parameters_.back().max = 1.0;  // e_n <= 1
+    for (const char* name : {"m0", "m1", "m2", "J0", "J1", "J2", "r", "e", "cx", "cy", "ctheta",
+                             "bx", "by", "btheta", "omega", "g", "x0", "y0", "xc", "yc", "xb",
+                             "yb", "a", "b", "u0", "f"})
+      parameters_.push_back(spec(*file, name));
+    sim::ParameterSpec t_runup = spec(*runup, "t_runup");
+    t_runup.value = 0.0;
+    t_runup.min_exclusive = false;  // >= 0: 0 is no run-up
+    t_runup.meaning += " (models/sieve_1995_runup.toml); 0: at full speed from t = 0, as in the paper";
+    parameters_.push_back(t_runup);
+    parameters_.push_back(spec(*file, "e_n"));
     for (const char* c : kCoordinateNames) coordinates_.push_back(c);
     constraints_ = {{"contact", mech::ConstraintKind::holonomic, true, "(3.1) u = u0", true, ""},
                     {"rolling", mech::ConstraintKind::holonomic, true,

@@ -186,6 +186,20 @@ std::vector<std::string> switched_contacts(const Case& c) {
   return out;
 }
 
+SummaryWindow summary_window(const Setup& set) {
+  SummaryWindow w;
+  w.w1 = set.t_end;
+  if (set.window.periods > 0) {
+    const double len = set.window.periods * set.period;
+    w.clipped = !(len <= set.t_end);
+    w.w0 = w.clipped ? 0.0 : set.t_end - len;
+  } else {
+    w.clipped = !(set.window.time <= set.t_end);
+    w.w0 = w.clipped ? 0.0 : set.t_end - set.window.time;
+  }
+  return w;
+}
+
 mech::SimulationOptions simulation_options(const Setup& set) {
   mech::SimulationOptions so;
   so.kernel = set.kernel;
@@ -261,18 +275,9 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
 
   const mech::SimulationOptions so = simulation_options(set);
 
-  // The summary window.
-  double w0 = 0.0;
-  bool clipped = false;
-  if (set.window.periods > 0) {
-    const double len = set.window.periods * set.period;
-    clipped = !(len <= set.t_end);
-    w0 = clipped ? 0.0 : set.t_end - len;
-  } else {
-    clipped = !(set.window.time <= set.t_end);
-    w0 = clipped ? 0.0 : set.t_end - set.window.time;
-  }
-  const double w1 = set.t_end;
+  const SummaryWindow window = summary_window(set);
+  const double w0 = window.w0, w1 = window.w1;
+  const bool clipped = window.clipped;
 
   const int n_out = static_cast<int>(source.outputs().size());
   std::unique_ptr<RowWriter> writer;

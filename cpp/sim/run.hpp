@@ -78,6 +78,14 @@ void check_step_budget(const Case& c, const Setup& setup, const mech::Model& mod
 /// constraints, projection after accepted steps), from t = 0.
 mech::SimulationOptions simulation_options(const Setup& setup);
 
+/// The summary window [w0, w1 = t_end] of a run: its last window.periods excitation periods or
+/// window.time seconds, or the whole run (w0 = 0, clipped) when that is longer than the run.
+struct SummaryWindow {
+  double w0 = 0.0, w1 = 0.0;
+  bool clipped = false;
+};
+SummaryWindow summary_window(const Setup& setup);
+
 mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& setup, const mech::Model& model);
 
 /// A run that completed but whose tolerance does not control its result (summary.json's
