@@ -1,6 +1,6 @@
 // Benchmark of model files: the paper's sieve written as a model file (models/sieve_1995.toml,
-// evaluated from its tape) against the compiled C++ closed form (cpp/sieve/model.hpp through
-// make_model, i.e. the engine's AD) and the hand-derived C++ model (cpp/sieve/analytic_model.cpp),
+// evaluated from its tape) against the compiled C++ closed form (tests/sieve/support/model.hpp through
+// make_model, i.e. the engine's AD) and the hand-derived C++ model (tests/sieve/support/analytic_model.cpp),
 // in one process: the cost of one evaluation of M, h (kinetic_terms), Q (forces) and the two
 // constraint rows, of one engine right-hand side (the default structured compatibility solve),
 // and of a whole mech::simulate of 1 s of the sieve (default options, fortran kernels). Ratios are against the AD closed form (the target: model file <= 1.5x) and
@@ -16,7 +16,7 @@
 #include "mech/simulation.hpp"
 #include "modelfile/expression_model.hpp"
 #include "modelfile/model_file.hpp"
-#include "sieve/model.hpp"
+#include "sieve/support/model.hpp"
 #include "bench_timing.hpp"
 
 using namespace pcsim;

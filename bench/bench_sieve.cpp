@@ -31,7 +31,7 @@
 #include <string>
 #include <vector>
 
-#include "sieve/source.hpp"
+#include "sieve/support/variants.hpp"
 #include "sim/case.hpp"
 #include "sim/run.hpp"
 
@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
   const std::string file =
       argc > 1 ? argv[1] : std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml";
   const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
-  pcsim::sieve::register_sieve();
+  pcsim::sieve::testing::register_sieve_variants();
   const fs::path out = fs::temp_directory_path() / ("pcsim_bench_sieve_" + std::to_string(::getpid()));
 
   // The reference: the same case at rtol 1e-11 (Radau, default path).

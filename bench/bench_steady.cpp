@@ -17,7 +17,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
-#include "sieve/source.hpp"
+#include "sieve/support/variants.hpp"
 #include "sim/case.hpp"
 #include "sim/run.hpp"
 #include "steady/steady_case.hpp"
@@ -58,7 +58,7 @@ double worst_error(const nlohmann::json& s, const nlohmann::json& ref, std::stri
 }
 
 void compare(const std::string& file, const std::string& label, int repeats) {
-  sieve::register_sieve();
+  sieve::testing::register_sieve_variants();
   const sim::Case c = sim::load_case(file);
   nlohmann::json run;
   const double t_run = min_time(repeats, [&] { run = sim::run_case(c); });
@@ -151,7 +151,7 @@ void compare(const std::string& file, const std::string& label, int repeats) {
 int main(int argc, char** argv) {
   // bench_steady --profile N [summary]: only pcsim steady's computation, N times (for a profiler).
   if (argc > 2 && std::string(argv[1]) == "--profile") {
-    sieve::register_sieve();
+    sieve::testing::register_sieve_variants();
     const sim::Case c = sim::load_case(std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml");
     steady::SteadyOptions o;
     o.summary = argc > 3;

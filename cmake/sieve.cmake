@@ -23,8 +23,20 @@ foreach(t test_incline test_study_real)
     target_link_libraries(${t} PRIVATE pcsim_sieve_incline)
   endif()
 endforeach()
-pcsim_boost_tests(DIR tests/sieve LINKS pcsim_sieve LABELS sieve)
-pcsim_benchmarks(PREFIX bench_sieve LINKS pcsim_sieve)
+# The sieve's C++ model forms (the paper's closed form through AD, the geometric form, the
+# hand-derived model) as variants of the built-in sieve, for its tests and benchmarks only: the
+# shipped library integrates the model file.
+file(GLOB _sieve_support CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/tests/sieve/support/*.cpp")
+add_library(pcsim_sieve_testing STATIC ${_sieve_support})
+target_link_libraries(pcsim_sieve_testing PUBLIC pcsim_sieve)
+target_include_directories(pcsim_sieve_testing PUBLIC "${PROJECT_SOURCE_DIR}/tests")
+pcsim_boost_tests(DIR tests/sieve LINKS pcsim_sieve pcsim_sieve_testing LABELS sieve)
+pcsim_benchmarks(PREFIX bench_sieve LINKS pcsim_sieve pcsim_sieve_testing)
+foreach(t test_modelfile_sieve bench_modelfile bench_steady)
+  if(TARGET ${t})
+    target_link_libraries(${t} PRIVATE pcsim_sieve_testing)
+  endif()
+endforeach()
 
 # The CLI tests call the pcsim executable (defined later, in CMakeLists.txt; generator
 # expressions resolve at generate time). PCSIM_EXE tells a test where it is.

@@ -20,6 +20,10 @@ std::shared_ptr<const sim::Client> make_sieve_client();
 /// deterministic function of the case, then the two design margins).
 const std::vector<std::string>& sieve_sweep_columns();
 
+/// The parameters the paper does not print (sieve-model.md section 5 table), by key, in the
+/// order of that table: these are the run's assumptions and are reported as such.
+const std::vector<std::string>& unprinted_parameter_keys();
+
 /// The figures of `pcsim plot` for a sieve run (sim::Client::figures).
 std::vector<sim::PlotFigure> sieve_figures(const nlohmann::json& summary,
                                            const std::set<std::string>& columns,

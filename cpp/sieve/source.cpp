@@ -6,9 +6,7 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
-#include "sieve/model.hpp"
 #include "sieve/run.hpp"
-#include "sieve/settings.hpp"
 #include "sim/client.hpp"
 #include "sim/file_source.hpp"
 
@@ -43,7 +41,7 @@ class SieveSource final : public sim::ModelSource {
     t_runup.meaning += " (models/sieve_1995_runup.toml); 0: at full speed from t = 0, as in the paper";
     parameters_.push_back(t_runup);
     parameters_.push_back(spec(*file, "e_n"));
-    for (const char* c : kCoordinateNames) coordinates_.push_back(c);
+    coordinates_ = file->coordinates();
     constraints_ = {{"contact", mech::ConstraintKind::holonomic, true, "(3.1) u = u0", true, ""},
                     {"rolling", mech::ConstraintKind::holonomic, true,
                      "(3.2) rolling without slip, s + r phi = const (erratum 7)", false, "contact"},
@@ -65,36 +63,25 @@ class SieveSource final : public sim::ModelSource {
   std::vector<std::string> slow_coordinates() const override {
     return sim::embedded_description("sieve_1995")->slow_coordinates();
   }
-  // The default: the paper's model as a model file (models/sieve_1995.toml, embedded), T (3.4)
-  // and Q (3.4a)-(3.4f) with the errata, derived symbolically and evaluated from a flat tape.
-  // The variants are the C++ forms of the same machine (sieve/model.hpp): "closed_form" (the
-  // path before issue 14: (3.4) through the engine's automatic differentiation), "geometric"
-  // and "analytic" (hand-derived); tests prove all four equal.
+  // The paper's model as a model file (models/sieve_1995.toml, embedded), T (3.4) and Q
+  // (3.4a)-(3.4f) with the errata, derived symbolically and evaluated from a flat tape; with
+  // t_runup > 0 its exciter run-up (models/sieve_1995_runup.toml). (The C++ forms of the same
+  // machine, which tests prove equal, are the tests' variants: tests/sieve/support.)
   std::shared_ptr<const mech::Model> instantiate(const sim::ParameterValues& parameters,
                                                  const Eigen::VectorXd& q0, double t0,
                                                  const toml::table& case_table,
                                                  const std::string& variant) const override {
+    if (!variant.empty() && variant != "model_file")
+      throw InputError("the sieve has no model variant '" + variant + "'");
     sim::ParameterValues p = parameters;
     const auto tr = p.find("t_runup");
     const double t_runup = tr == p.end() ? 0.0 : tr->second;
     if (tr != p.end()) p.erase(tr);
-    if (variant.empty() || variant == "model_file") {
-      if (t_runup > 0) {
-        p["t_runup"] = t_runup;
-        return sim::embedded_description("sieve_1995_runup")->instantiate(p, q0, t0);
-      }
-      return sim::embedded_description("sieve_1995")->instantiate(p, q0, t0);
+    if (t_runup > 0) {
+      p["t_runup"] = t_runup;
+      return sim::embedded_description("sieve_1995_runup")->instantiate(p, q0, t0);
     }
-    if (t_runup > 0)
-      throw InputError("parameters.t_runup: the sieve's model variant '" + variant +
-                       "' has no exciter run-up (only the default model file has one)");
-    const SieveSettings set = settings_from_table(case_table);
-    ModelForm form = ModelForm::closed_form;
-    if (variant == "geometric") form = ModelForm::geometric;
-    else if (variant == "analytic") form = ModelForm::analytic;
-    else if (variant != "closed_form")
-      throw InputError("the sieve has no model variant '" + variant + "'");
-    return make_sieve_model(set, form);
+    return sim::embedded_description("sieve_1995")->instantiate(p, q0, t0);
   }
 
  private:

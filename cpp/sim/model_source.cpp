@@ -43,7 +43,7 @@ void register_embedded_models(Builtins& b) {
   if (done) return;
   done = true;
   // The built-in model files: the engine's example systems by their names (the sieve is
-  // registered by its own component, with its client and the C++ variants).
+  // registered by its own application, with its client).
   for (const char* name : {"pendulum", "rolling_disk", "slider_crank"}) {
     if (b.factories.count(name)) continue;
     const std::string n = name;

@@ -36,8 +36,8 @@ struct RunOptions {
   /// directory is locked for the run and replaced as a whole at its end (common/files.hpp).
   std::optional<std::filesystem::path> out_dir;
   /// Internal (not a case key, not a CLI flag): an equivalent description of the model, passed
-  /// to ModelSource::instantiate ("" = the default; the sieve offers "closed_form", "geometric",
-  /// "analytic" for the benchmarks and tests).
+  /// to ModelSource::instantiate ("" = the default; the sieve's tests and benchmarks register
+  /// its C++ forms "closed_form", "geometric", "analytic": tests/sieve/support/variants.hpp).
   std::string variant;
   // Internal (pcsim steady: one period of a periodic orbit through the same run and summary):
   /// wraps the instantiated model (the holding forces of slow coordinates);

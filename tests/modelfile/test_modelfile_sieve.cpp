@@ -1,6 +1,6 @@
 // models/sieve_1995.toml, the paper's (3.4) and (3.4a)-(3.4f) with the errata applied (erratum
 // 7 included: rolling is s + r phi = s(0) + r phi(0)), is the C++ closed form of
-// cpp/sieve/model.hpp: the same M, h, Q, constraint rows and reactions at random states, with
+// tests/sieve/support/model.hpp: the same M, h, Q, constraint rows and reactions at random states, with
 // contact and rolling active and with lock_theta too; its printed-sign variant equals the C++
 // rolling_as_printed form; fstar, the period and the slow coordinate are declared as the issue
 // asks.
@@ -12,7 +12,7 @@
 #include "mech/simulation.hpp"
 #include "modelfile/model_file.hpp"
 #include "modelfile_test_util.hpp"
-#include "sieve/model.hpp"
+#include "sieve/support/model.hpp"
 
 using namespace pcsim;
 using namespace pcsim::modelfile;

@@ -1,8 +1,9 @@
-// Test helper: registers the built-in sieve model with the case layer before any test runs.
+// Test helper: registers the built-in sieve model, with its C++ variants (support/variants.hpp),
+// with the case layer before any test runs.
 #pragma once
 
-#include "sieve/source.hpp"
+#include "sieve/support/variants.hpp"
 
 namespace pcsim::testing {
-inline const bool kSieveRegistered = (pcsim::sieve::register_sieve(), true);
+inline const bool kSieveRegistered = (pcsim::sieve::testing::register_sieve_variants(), true);
 }  // namespace pcsim::testing

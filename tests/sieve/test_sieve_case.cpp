@@ -13,7 +13,7 @@
 #include "common/error.hpp"
 #include "sim/case.hpp"
 #include "register.hpp"
-#include "sieve/settings.hpp"
+#include "sieve/support/settings.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;

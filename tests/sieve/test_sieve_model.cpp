@@ -8,8 +8,8 @@
 #include <random>
 
 #include "mech/simulation.hpp"
-#include "sieve/analytic_model.hpp"
-#include "sieve/model.hpp"
+#include "sieve/support/analytic_model.hpp"
+#include "sieve/support/model.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;

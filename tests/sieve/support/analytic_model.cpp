@@ -6,7 +6,7 @@
 //         − ½ q̇ᵀ (∂M/∂q_j) q̇ − (∂a/∂q_j)ᵀ q̇.
 // M depends on θ, s, u and t only; a on θ and t only. The partials below are differentiated
 // by hand from (3.4); the tests compare every entry with the AD-derived models.
-#include "sieve/analytic_model.hpp"
+#include "sieve/support/analytic_model.hpp"
 
 #include <cmath>
 #include <limits>

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mech/model.hpp"
-#include "sieve/settings.hpp"
+#include "sieve/support/settings.hpp"
 
 namespace pcsim::sieve {
 

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "mech/model.hpp"
-#include "sieve/model.hpp"
+#include "sieve/support/model.hpp"
 
 namespace pcsim::sieve {
 

@@ -1,5 +1,6 @@
-// The typed view of a validated sieve case: parameters, initial state, constraints, solver and
-// output settings as plain numbers (what the model and the run read; the TOML stays in Case).
+// The typed view of a validated sieve case for the sieve's C++ model forms (model.hpp; tests and
+// benchmarks only): parameters, initial state, constraints, solver and output settings as plain
+// numbers.
 #pragma once
 
 #include <array>
@@ -66,9 +67,5 @@ struct SieveSettings {
 /// every key).
 SieveSettings settings_from_table(const toml::table& t);
 inline SieveSettings settings_from_case(const sim::Case& c) { return settings_from_table(c.table); }
-
-/// The parameters the paper does not print (sieve-model.md section 5 table), by key, in the
-/// order of that table: these are the run's assumptions and are reported as such.
-const std::vector<std::string>& unprinted_parameter_keys();
 
 }  // namespace pcsim::sieve

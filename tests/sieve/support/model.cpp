@@ -1,7 +1,7 @@
 // Building the sieve Model of a case (see model.hpp).
-#include "sieve/model.hpp"
+#include "sieve/support/model.hpp"
 
-#include "sieve/analytic_model.hpp"
+#include "sieve/support/analytic_model.hpp"
 
 namespace pcsim::sieve {
 
