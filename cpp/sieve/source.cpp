@@ -21,26 +21,39 @@ class SieveSource final : public sim::ModelSource {
   SieveSource() {
     // The parameters, their defaults, units, meanings and limits are the model file's
     // (models/sieve_1995.toml), in the order of the case format (a case's keys are written in
-    // it, e.g. by to_toml). One is the sieve's own: t_runup selects the exciter's run-up model
-    // (models/sieve_1995_runup.toml, where it is > 0); 0, its default, is the paper's exciter
-    // at full speed from t = 0.
-    const auto file = sim::make_embedded_model_source("sieve", "sieve_1995");
-    const auto runup = sim::make_embedded_model_source("sieve", "sieve_1995_runup");
-    auto spec = [](const sim::ModelSource& m, const std::string& name) {
-      for (const auto& p : m.parameters())
-        if (p.name == name) return p;
-      throw std::logic_error("models/sieve_1995*.toml: no parameter " + name);
+    // it, e.g. by to_toml). One is the sieve's own key: t_runup selects the exciter's run-up
+    // model (models/sieve_1995_runup.toml, where it is a parameter > 0); 0, its default, is the
+    // paper's exciter at full speed from t = 0.
+    const auto file = sim::embedded_description("sieve_1995");
+    auto spec = [&file](const std::string& name) {
+      for (const auto& p : file->parameters())
+        if (p.name == name) {
+          sim::ParameterSpec s;
+          s.name = p.name;
+          s.value = p.value;
+          s.unit = p.unit;
+          s.meaning = p.meaning;
+          s.min = p.min;
+          s.max = p.max;
+          s.min_exclusive = p.min_exclusive;
+          s.max_exclusive = p.max_exclusive;
+          return s;
+        }
+      throw std::logic_error("models/sieve_1995.toml: no parameter " + name);
     };
     for (const char* name : {"m0", "m1", "m2", "J0", "J1", "J2", "r", "e", "cx", "cy", "ctheta",
                              "bx", "by", "btheta", "omega", "g", "x0", "y0", "xc", "yc", "xb",
                              "yb", "a", "b", "u0", "f"})
-      parameters_.push_back(spec(*file, name));
-    sim::ParameterSpec t_runup = spec(*runup, "t_runup");
-    t_runup.value = 0.0;
-    t_runup.min_exclusive = false;  // >= 0: 0 is no run-up
-    t_runup.meaning += " (models/sieve_1995_runup.toml); 0: at full speed from t = 0, as in the paper";
+      parameters_.push_back(spec(name));
+    sim::ParameterSpec t_runup;
+    t_runup.name = "t_runup";
+    t_runup.unit = "s";
+    t_runup.meaning =
+        "exciter run-up time: its speed ramps from 0 to omega over it (models/"
+        "sieve_1995_runup.toml); 0: at full speed from t = 0, as in the paper";
+    t_runup.min = 0.0;
     parameters_.push_back(t_runup);
-    parameters_.push_back(spec(*file, "e_n"));
+    parameters_.push_back(spec("e_n"));
     coordinates_ = file->coordinates();
     constraints_ = {{"contact", mech::ConstraintKind::holonomic, true, "(3.1) u = u0", true, ""},
                     {"rolling", mech::ConstraintKind::holonomic, true,
