@@ -1,6 +1,7 @@
-// Compares a sieve summary.json with a stored reference: every physical quantity to
-// kDigits significant digits, booleans, strings and nulls exactly. Solver statistics and wall
-// time are not compared (they belong to the integrator, not to the result).
+// Compares a run's summary.json with a stored reference (the case harness, cmake/cases.cmake):
+// every physical quantity to kDigits significant digits, booleans, strings and nulls exactly.
+// Solver statistics and wall time are not compared (they belong to the integrator, not to the
+// result).
 //
 // Why 5 digits: the cases run with rtol = 1e-6; their summaries move by < 1e-5 relative when
 // the tolerance is tightened to 1e-11 (test_sieve_run proves < 1e-4; measured ~1e-7) and the
