@@ -36,7 +36,9 @@ endfunction()
 # also link pcsim_sieve, carry the label "sieve", and exist only with PCSIM_WITH_SIEVE. Every
 # test sees PCSIM_WITH_SIEVE as 1 or 0: a test case of another test that runs a sieve case
 # through the pcsim executable is the sieve's by the decorator
-# `* boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()` (skipped in a build without it).
+# `* boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()` (skipped in a build without it); one that
+# calls the sieve's code is compiled only #if PCSIM_WITH_SIEVE (its test links the sieve then,
+# cmake/sieve.cmake).
 function(pcsim_boost_tests)
   cmake_parse_arguments(T "" "DIR" "LINKS;LABELS;SIEVE" ${ARGN})
   foreach(l IN LISTS T_LINKS)

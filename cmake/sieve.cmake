@@ -23,6 +23,12 @@ foreach(t test_incline test_study_real)
     target_link_libraries(${t} PRIVATE pcsim_sieve_incline)
   endif()
 endforeach()
+# Tests of other components with test cases of the sieve (#if PCSIM_WITH_SIEVE).
+foreach(t test_equilibrium_runup test_steady_derivatives)
+  if(TARGET ${t})
+    target_link_libraries(${t} PRIVATE pcsim_sieve)
+  endif()
+endforeach()
 # The sieve's C++ model forms (the paper's closed form through AD, the geometric form, the
 # hand-derived model) as variants of the built-in sieve, for its tests and benchmarks only: the
 # shipped library integrates the model file.

@@ -14,9 +14,11 @@ endif()
 pcsim_component(NAME steady
   CXX   cpp/steady/*.cpp
   LINKS pcsim_sim Threads::Threads)
-# The tests and the benchmark of the sieve's steady state are the sieve's.
+# The tests and the benchmark of the sieve's steady state are the sieve's (and so are the sieve
+# test cases of test_equilibrium_runup and test_steady_derivatives: #if PCSIM_WITH_SIEVE, they
+# link the sieve, cmake/sieve.cmake).
 pcsim_boost_tests(DIR tests/steady LINKS pcsim_steady
-  SIEVE test_steady_sieve test_equilibrium_runup test_steady_derivatives test_steady_cli)
+  SIEVE test_steady_sieve test_steady_cli)
 pcsim_benchmarks(PREFIX bench_steady LINKS pcsim_steady SIEVE bench_steady)
 
 foreach(t test_steady_cli)

@@ -21,7 +21,7 @@ endif()
 # The study tests run on the sieve's case (tests/study/study_fixtures.hpp): they are the
 # sieve's until they get a case of their own.
 pcsim_boost_tests(DIR tests/study LINKS pcsim_study
-  SIEVE test_incline test_optimize test_study_cli test_study_real test_sweep test_vary)
+  SIEVE test_incline test_optimize test_study_cli test_study_real test_sweep)
 pcsim_benchmarks(PREFIX bench_study LINKS pcsim_study SIEVE bench_study)
 
 # The CLI tests call the pcsim executable (defined later; generator expressions resolve at

@@ -12,7 +12,9 @@
 
 #include "mech/equilibrium.hpp"
 #include "modelfile/model_file.hpp"
+#if PCSIM_WITH_SIEVE
 #include "sieve/source.hpp"
+#endif
 #include "sim/case.hpp"
 #include "sim/file_source.hpp"
 #include "sim/run.hpp"
@@ -76,6 +78,7 @@ x = "F0 + F1*cos(omega*t) + F1*sin(2*omega*t)"
   BOOST_TEST(std::abs(e0.q[0] - 31.5 / 4.0) < 1e-13);
 }
 
+#if PCSIM_WITH_SIEVE  // the sieve's (its built-in model and verdicts)
 BOOST_AUTO_TEST_CASE(sieve_equilibrium_holds_the_roller_with_its_weight_along_the_tilted_deck) {
   // At rest on the deck tilted by theta, the roller's weight pulls it along the deck with
   // m2 g sin(theta); rolling exerts no static force (Q_phi = 0), so the holding force on s is
@@ -94,6 +97,7 @@ BOOST_AUTO_TEST_CASE(sieve_equilibrium_holds_the_roller_with_its_weight_along_th
   BOOST_TEST_MESSAGE("sieve at rest: theta = " << e.q[2] << " rad, x = " << e.q[0] << " m, y = " << e.q[1]
                                                << " m, holding force " << e.holding_force[0] << " N");
 }
+#endif
 
 BOOST_AUTO_TEST_CASE(runup_model_equals_the_sieve_shifted_by_half_the_runup_after_it) {
   const auto plain = sim::embedded_description("sieve_1995");
@@ -131,6 +135,7 @@ BOOST_AUTO_TEST_CASE(runup_model_equals_the_sieve_shifted_by_half_the_runup_afte
   BOOST_TEST(std::abs(h[0]) + std::abs(h[1]) < 0.01 * m0 * e * omega * omega);
 }
 
+#if PCSIM_WITH_SIEVE  // the sieve's (its built-in model and verdicts)
 BOOST_AUTO_TEST_CASE(runup_keeps_the_contact_that_the_start_at_full_speed_loses_at_t0) {
   // e = 0.04 m: switched on at full speed at t = 0, the exciter's centrifugal force
   // m0 e omega^2 = 3983 N pulls the desk (at rest, its dampers idle) down at ~g, and R_u <= 0 at
@@ -153,3 +158,4 @@ BOOST_AUTO_TEST_CASE(runup_keeps_the_contact_that_the_start_at_full_speed_loses_
   BOOST_TEST_MESSAGE("e = 0.04: full speed at t = 0 loses contact at t = 0; run-up over 2 s: min R_u over the window "
                      << ramp["R_u_min"].get<double>() << " N");
 }
+#endif

@@ -7,7 +7,9 @@
 
 #include <cmath>
 
+#if PCSIM_WITH_SIEVE
 #include "sieve/source.hpp"
+#endif
 #include "sim/case.hpp"
 #include "steady/steady_case.hpp"
 
@@ -94,6 +96,7 @@ BOOST_AUTO_TEST_CASE(parameter_derivative_and_jacobian_of_the_duffing_residual_e
   check(c, "parameters.F", 0.5, 1e-5, 1e-5);
 }
 
+#if PCSIM_WITH_SIEVE  // the sieve's (its built-in model)
 BOOST_AUTO_TEST_CASE(parameter_derivative_and_jacobian_of_the_sieve_residual_equal_differences) {
   sieve::register_sieve();
   const sim::Case c = sim::load_case(std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml");
@@ -101,3 +104,4 @@ BOOST_AUTO_TEST_CASE(parameter_derivative_and_jacobian_of_the_sieve_residual_equ
   check(c, "parameters.e", 0.01, 1e-5, 1e-5);
   check(c, "initial.s0", 0.4, 1e-5, 1e-5);
 }
+#endif

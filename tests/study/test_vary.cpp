@@ -1,21 +1,32 @@
-// Bad --vary specifications are rejected before any run, each with a message naming it.
+// Bad --vary specifications are rejected before any run, each with a message naming it
+// (sim/vary.hpp, on a case of any model).
 #define BOOST_TEST_MODULE study_vary
 #include <boost/test/unit_test.hpp>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "common/error.hpp"
+#include "sim/case.hpp"
 #include "sim/vary.hpp"
-#include "study_fixtures.hpp"
 
 using namespace pcsim::sim;
 
 namespace {
 
+/// A case of the paper's sieve through the generic layer (its model file, no application).
+Case base_case() {
+  const auto dir = std::filesystem::path(PCSIM_BINARY_DIR) / "test-scratch" / "vary";
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "mini.toml";
+  std::ofstream(file) << "model = \"" << PCSIM_SOURCE_DIR << "/models/sieve_1995.toml\"\n";
+  return load_case(file, {{"solver.t_end", "0.2"}});
+}
+
 /// parse_vary(spec) throws pcsim::InputError whose message contains every `needle`.
 void expect_rejected(const std::string& spec, std::initializer_list<const char*> needles) {
-  const auto dir = study_test::scratch("vary");
-  const auto base = study_test::minimal_case(dir);
+  const auto base = base_case();
   try {
     make_grid({spec}, base);
     BOOST_ERROR("accepted: " << spec);
@@ -58,8 +69,7 @@ BOOST_AUTO_TEST_CASE(non_numeric_value_is_rejected_naming_it) {
 BOOST_AUTO_TEST_CASE(malformed_specification_and_repeated_key_are_rejected) {
   expect_rejected("parameters.omega", {"expected KEY="});
   expect_rejected("parameters.omega=1:2:3:4", {"expected START:STOP:COUNT"});
-  const auto dir = study_test::scratch("vary_twice");
-  const auto base = study_test::minimal_case(dir);
+  const auto base = base_case();
   BOOST_CHECK_THROW(make_grid({"parameters.omega=1,2", "parameters.omega=3"}, base),
                     pcsim::InputError);
 }
@@ -70,8 +80,7 @@ BOOST_AUTO_TEST_CASE(value_the_case_rejects_is_rejected_before_running) {
 }
 
 BOOST_AUTO_TEST_CASE(bounds_need_low_below_high) {
-  const auto dir = study_test::scratch("vary_bounds");
-  const auto base = study_test::minimal_case(dir);
+  const auto base = base_case();
   const Bounds b = parse_bounds("parameters.omega=250:310", base);
   BOOST_TEST(b.low == 250.0);
   BOOST_TEST(b.high == 310.0);
