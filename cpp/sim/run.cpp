@@ -178,8 +178,8 @@ std::vector<std::string> timeseries_columns(const Case& c) {
 
 std::vector<std::string> switched_contacts(const Case& c) {
   std::vector<std::string> out;
-  if (!c.table["contact"]["switching"].value_or(false)) return out;
-  const Setup s = setup_of(c);
+  const Setup& s = c.setup;
+  if (!s.contact.switching) return out;
   for (const auto& con : c.model->constraints())
     if (con.unilateral && std::find(s.active.begin(), s.active.end(), con.name) != s.active.end())
       out.push_back(con.name);
@@ -204,7 +204,7 @@ mech::SimulationOptions simulation_options(const Setup& set) {
 }
 
 nlohmann::json run_case(const Case& c, const RunOptions& options) {
-  const Setup set = setup_of(c);
+  const Setup& set = c.setup;
   const ModelSource& source = *c.model;
   const int n = static_cast<int>(source.coordinates().size());
   const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();

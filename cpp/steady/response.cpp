@@ -44,6 +44,7 @@ sim::Case case_at(const sim::Case& c, const std::string& key, double value) {
   toml::table* t = out.table[section].as_table();
   if (!t) throw InputError("--vary " + key + ": no table [" + section + "]");
   t->insert_or_assign(name, value);
+  sim::retype(out);
   return out;
 }
 

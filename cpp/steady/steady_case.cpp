@@ -41,7 +41,7 @@ ShootingOptions shooting_options(const sim::Setup& s, OdeMethod method) {
 }
 
 CaseOrbit::CaseOrbit(const sim::Case& c, int periods, std::string key)
-    : case_(c), setup_(sim::setup_of(c)), periods_(periods), key_(std::move(key)),
+    : case_(c), setup_(c.setup), periods_(periods), key_(std::move(key)),
       base_value_(std::numeric_limits<double>::quiet_NaN()) {
   const std::string w = where(c);
   if (periods_ < 1) throw InputError("--periods: expected an integer >= 1, got " + std::to_string(periods_));
@@ -262,7 +262,8 @@ Eigen::VectorXd CaseOrbit::q0_at(double value) const {
   if (kind_ != KeyKind::held_value) return setup_.q0;
   sim::Case c = case_;
   c.table["initial"].as_table()->insert_or_assign(name_, value);
-  return sim::setup_of(c).q0;
+  sim::retype(c);
+  return c.setup.q0;
 }
 
 std::shared_ptr<const mech::Model> CaseOrbit::model_at(double value) const {
@@ -333,9 +334,9 @@ nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
   toml::table& output = *c.table["output"].as_table();
   output.erase("summary_time");
   // At least 200 time-series rows per orbit period (a case's dt is often set for long runs).
-  const double dt = output["dt"].value_or(1e-3);
-  if (dt > kT / 200) output.insert_or_assign("dt", kT / 200);
+  if (c.setup.dt > kT / 200) output.insert_or_assign("dt", kT / 200);
   output.insert_or_assign("summary_periods", int64_t{p.periods});
+  sim::retype(c);
   const int n = static_cast<int>(result.point.y.size() / 2);
   sim::RunOptions ro;
   ro.start = std::make_pair(Eigen::VectorXd(result.point.y.head(n)), Eigen::VectorXd(result.point.y.tail(n)));
@@ -572,6 +573,7 @@ std::string steady_report(const sim::Case& c, const nlohmann::json& s) {
     pc.table["solver"].as_table()->insert_or_assign("t_end", s["orbit_period"].get<double>());
     pc.table["output"].as_table()->erase("summary_time");
     pc.table["output"].as_table()->insert_or_assign("summary_periods", int64_t{k});
+    sim::retype(pc);
     std::istringstream rep(sim::human_report(pc, s["summary"]));
     std::string line;
     while (std::getline(rep, line)) os << "  | " << line << "\n";

@@ -152,7 +152,7 @@ BOOST_AUTO_TEST_CASE(constraints_and_keys_follow_the_model) {
   TempDir d;
   const fs::path f = d.write("sc.toml", "model = \"slider_crank\"\n[solver]\nt_end = 0.05\n");
   const Case c = load_case(f);
-  const Setup s = setup_of(c);
+  const Setup& s = c.setup;
   BOOST_TEST((s.active == std::vector<std::string>{"A_x", "A_y", "B_x", "B_y"}));
   std::string msg = error_of([&] { run_case(load_case(f, {{"constraints.B_y_copy", "true"}})); });
   BOOST_TEST(has(msg, "'B_y_copy' is redundant"), msg);

@@ -83,7 +83,7 @@ BOOST_AUTO_TEST_CASE(sieve_equilibrium_holds_the_roller_with_its_weight_along_th
   sieve::register_sieve();
   const sim::Case c = sim::load_case(std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml",
                                      {{"initial.from", "equilibrium"}});
-  const sim::Setup s = sim::setup_of(c);
+  const sim::Setup& s = c.setup;
   const auto model = c.model->instantiate(s.parameters, s.q0, 0.0, c.table, "");
   const mech::EquilibriumResult e = sim::case_equilibrium(c, s, *model);
   BOOST_TEST(e.q[3] == 0.4);   // s held

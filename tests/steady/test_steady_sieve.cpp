@@ -48,7 +48,7 @@ struct WindowDrift {
 };
 
 WindowDrift measure_window(const sim::Case& c) {
-  const sim::Setup set = sim::setup_of(c);
+  const sim::Setup& set = c.setup;
   const auto model = c.model->instantiate(set.parameters, set.q0, 0.0, c.table, "");
   const mech::SimulationOptions so = sim::simulation_options(set);  // as sim::run_case runs it
   WindowDrift d;
