@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "mech/simulation.hpp"
 #include "sieve/model.hpp"
 #include "sieve/settings.hpp"
@@ -272,7 +273,7 @@ class SieveClient final : public sim::Client {
   // inconsistent start instead of projecting it, so the assumption "start at rest on the deck"
   // stays what the case says).
   void validate(const std::filesystem::path& file, const toml::table& t) const override {
-    const std::string where = file.empty() ? std::string("<case>") : file.string();
+    const std::string where = input_location(file);
     auto fail = [&](const std::string& key, const std::string& expected, const toml::node* got) {
       std::string msg = where + ": key '" + key + "': expected " + expected;
       if (got) msg += ", got " + format_significant(got->value<double>().value_or(NAN), 17);

@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "sim/client.hpp"
 
 namespace pcsim::sim {
@@ -28,7 +29,7 @@ constexpr const char* kFormatHelp = "the case format: README, \"Case files\"";
 const std::vector<std::string> kSections = {"parameters", "initial", "constraints", "solver",
                                             "output", "contact"};
 
-std::string where(const fs::path& file) { return file.empty() ? std::string("<case>") : file.string(); }
+std::string where(const fs::path& file) { return input_location(file); }
 
 [[noreturn]] void fail(const fs::path& file, const std::string& key, const std::string& expected,
                        const std::string& got = "") {

@@ -17,6 +17,7 @@
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "mech/projection.hpp"
 #include "mech/simulation.hpp"
 #include "mech/switching.hpp"
@@ -207,7 +208,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   const Setup& set = c.setup;
   const ModelSource& source = *c.model;
   const int n = static_cast<int>(source.coordinates().size());
-  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  const std::string where = input_location(c.source);
 
   const double rows = std::floor(set.t_end / set.dt) + 2;
   if ((options.out_dir || options.directory) && !(rows <= kMaxOutputRows))
@@ -550,7 +551,7 @@ StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>
 
 void check_step_budget(const Case& c, const Setup& set, const mech::Model& model, double duration,
                        const std::string& what) {
-  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  const std::string where = input_location(c.source);
   // With switching contacts, every step while a contact flies or slides is at most
   // contact.flight_hmax long: a span of `duration` in flight takes at least duration/flight_hmax
   // steps. Where that is more than the budget, the budget cannot suffice for a run that flies
@@ -583,7 +584,7 @@ void check_step_budget(const Case& c, const Setup& set, const mech::Model& model
 }
 
 mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& set, const mech::Model& model) {
-  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  const std::string where = input_location(c.source);
   if (!model.has_tangents())
     throw InputError(where + ": key 'initial.from': \"equilibrium\" needs a model with exact "
                      "tangents (a model file; the " + c.model->origin() + " instance has none)");

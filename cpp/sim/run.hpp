@@ -27,11 +27,8 @@ namespace pcsim::sim {
 /// solver.t_end) is refused before any computation, naming output.dt and the row count.
 inline constexpr double kMaxOutputRows = 1e7;
 
+/// How to run a case (an aggregate: RunOptions{out_dir}, RunOptions{out_dir, variant}).
 struct RunOptions {
-  RunOptions() = default;
-  /// RunOptions{out_dir, variant}, as before the internal fields below existed.
-  RunOptions(std::optional<std::filesystem::path> out, std::string v = "")
-      : out_dir(std::move(out)), variant(std::move(v)) {}
   /// Where to write timeseries.csv and summary.json; nullopt writes nothing (sweeps). The
   /// directory is locked for the run and replaced as a whole at its end (common/files.hpp).
   std::optional<std::filesystem::path> out_dir;

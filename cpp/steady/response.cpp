@@ -2,36 +2,21 @@
 #include "steady/response.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <mutex>
 #include <set>
-#include <thread>
 
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
+#include "common/parallel.hpp"
 #include "sim/client.hpp"
 #include "study/vary.hpp"
 
 namespace pcsim::steady {
 
 namespace {
-
-// Runs f(i) for i < count on `jobs` threads; exceptions are caught per item by f itself.
-void parallel_for(std::size_t count, unsigned jobs, const std::function<void(std::size_t)>& f) {
-  const unsigned n = std::max(1u, std::min<unsigned>(jobs ? jobs : std::max(1u, std::thread::hardware_concurrency()),
-                                                      static_cast<unsigned>(std::max<std::size_t>(count, 1))));
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    for (std::size_t i = next++; i < count; i = next++) f(i);
-  };
-  std::vector<std::thread> threads;
-  for (unsigned t = 1; t < n; ++t) threads.emplace_back(work);
-  work();
-  for (auto& t : threads) t.join();
-}
 
 std::string text(double v) { return csv_number(v); }
 

@@ -12,6 +12,7 @@
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "mech/projection.hpp"
 #include "sim/client.hpp"
 #include "sim/run.hpp"
@@ -22,9 +23,7 @@ namespace pcsim::steady {
 
 namespace {
 
-std::string where(const sim::Case& c) {
-  return c.source.empty() ? std::string("<case>") : c.source.string();
-}
+std::string where(const sim::Case& c) { return input_location(c.source); }
 
 nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
