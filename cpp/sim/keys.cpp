@@ -146,7 +146,7 @@ std::vector<KeySpec> table() {
                           "s; the largest step while a contact flies or slides (default: a 16th "
                           "of the excitation period, or none)",
                           std::nullopt, 0.0, true);
-    hmax.default_text = "a 16th of the excitation period, or none";
+    hmax.default_text = "a 16th of the excitation period (none without one)";
     keys.push_back(hmax);
   }
   keys.push_back(count("contact", "max_events",

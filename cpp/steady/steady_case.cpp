@@ -323,7 +323,7 @@ OrbitPoint CaseOrbit::guess() const {
   return x;
 }
 
-nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
+sim::RunResult period_summary(const CaseOrbit& orbit, const OrbitResult& result,
                               OutputDirectory* dir) {
   sim::Case c = orbit.source_case();
   const OrbitProblem p = orbit.problem();
@@ -351,7 +351,7 @@ nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
   return sim::run_case(c, ro);
 }
 
-nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const nlohmann::json& summary) {
+nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const sim::RunResult* summary) {
   const sim::Case& c = orbit.source_case();
   const OrbitProblem p = orbit.problem();
   const auto& coords = c.model->coordinates();
@@ -428,15 +428,15 @@ nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const nl
                    {"methods_used", r.used_explicit && r.used_radau ? "explicit, radau"
                                     : r.used_radau                  ? "radau"
                                                                     : "explicit"}};
-  if (!summary.is_null()) {
+  if (summary) {
     // The periodicity of the summary run (the case's own integrator from the periodic state).
     double gap = 0;
     for (int i = 0; i < n; ++i) {
-      gap = std::max(gap, std::abs(summary["q_end"][coords[i]].get<double>() - r.point.y[i]));
-      gap = std::max(gap, std::abs(summary["qd_end"][coords[i] + "_d"].get<double>() - r.point.y[n + i]));
+      gap = std::max(gap, std::abs(summary->q_end.at(coords[i]) - r.point.y[i]));
+      gap = std::max(gap, std::abs(summary->qd_end.at(coords[i] + "_d") - r.point.y[n + i]));
     }
     j["periodicity_check"] = gap;
-    j["summary"] = summary;
+    j["summary"] = sim::to_json(*summary);
   }
   return j;
 }
@@ -471,7 +471,7 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
     std::string kept;
     if (out) {
       try {
-        nlohmann::json j = orbit_json(orbit, r, nlohmann::json());
+        nlohmann::json j = orbit_json(orbit, r, nullptr);
         j["complete"] = false;
         j["failure"] = {{"reason", r.message}, {"t", r.last.t_failed}};
         j["shooting"]["method"] = to_string(options.method);
@@ -490,14 +490,14 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
     }
     throw NumericalError("case '" + c.name + "': " + r.message + kept, r.last.t_failed);
   }
-  nlohmann::json summary;
+  std::optional<sim::RunResult> summary;
   double wall_summary = 0;
   if (options.summary) {
     const auto t1 = std::chrono::steady_clock::now();
     summary = period_summary(orbit, r, out.get());
     wall_summary = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   }
-  nlohmann::json j = orbit_json(orbit, r, summary);
+  nlohmann::json j = orbit_json(orbit, r, summary ? &*summary : nullptr);
   j["complete"] = true;
   j["shooting"]["method"] = to_string(options.method);
   j["shooting"]["rtol"] = so.rtol;
@@ -573,7 +573,8 @@ std::string steady_report(const sim::Case& c, const nlohmann::json& s) {
     pc.table["output"].as_table()->erase("summary_time");
     pc.table["output"].as_table()->insert_or_assign("summary_periods", int64_t{k});
     sim::retype(pc);
-    std::istringstream rep(sim::human_report(pc, s["summary"]));
+    std::istringstream rep(
+        sim::human_report(pc, sim::result_from_json(s["summary"], sim::timeseries_columns(pc))));
     std::string line;
     while (std::getline(rep, line)) os << "  | " << line << "\n";
   }

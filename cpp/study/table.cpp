@@ -57,10 +57,11 @@ std::vector<std::string> summary_columns(const sim::Case& c) {
   return cols;
 }
 
-std::vector<std::string> flatten_summary(const nlohmann::json& summary, const sim::Case& c,
+std::vector<std::string> flatten_summary(const sim::RunResult& result, const sim::Case& c,
                                          const std::vector<std::string>& columns) {
   const std::map<std::string, double> derived =
-      c.client ? c.client->derived_columns(summary, c) : std::map<std::string, double>{};
+      c.client ? c.client->derived_columns(result, c) : std::map<std::string, double>{};
+  const nlohmann::json summary = sim::to_json(result);  // the columns are its dotted paths
   std::vector<std::string> fields;
   fields.reserve(columns.size());
   for (const auto& col : columns) {
