@@ -158,6 +158,103 @@ class Monitor {
   std::vector<double> row_;
 };
 
+/// The summary window: its start, and whether the window asked for was longer than the run.
+struct SummaryWindow {
+  double start = 0.0;
+  bool clipped = false;
+};
+
+SummaryWindow summary_window(const Setup& set) {
+  const double len = set.window.periods > 0 ? set.window.periods * set.period : set.window.time;
+  const bool clipped = !(len <= set.t_end);
+  return {clipped ? 0.0 : set.t_end - len, clipped};
+}
+
+/// initial.from = "equilibrium": the static equilibrium (case_equilibrium) into q0, and what
+/// the result says of it.
+InitialState equilibrium_start(const Case& c, const mech::Model& model, Eigen::VectorXd& q0) {
+  const mech::EquilibriumResult e = case_equilibrium(c, c.setup, model);
+  q0 = e.q;
+  InitialState start;
+  const auto& coords = c.model->coordinates();
+  for (std::size_t i = 0; i < coords.size(); ++i) start.q[coords[i]] = e.q[static_cast<int>(i)];
+  start.force_imbalance = e.residual;
+  const auto slow = c.model->slow_coordinates();
+  for (std::size_t k = 0; k < slow.size() && k < static_cast<std::size_t>(e.holding_force.size()); ++k)
+    start.holding_forces[slow[k]] = e.holding_force[static_cast<int>(k)];
+  return start;
+}
+
+/// The generic fields of a run's result: the case and solver as run, the engine's counters,
+/// the final state (the start where the engine has none), the parameters and constraints.
+void describe_run(RunResult& r, const Case& c, const std::string& variant,
+                  const mech::SimulationResult& res, double wall, const Eigen::VectorXd& q0,
+                  const Eigen::VectorXd& qd0) {
+  const Setup& set = c.setup;
+  const auto& coords = c.model->coordinates();
+  const int n = static_cast<int>(coords.size());
+  r.case_name = c.name;
+  r.model = c.model->name();
+  r.model_variant = variant;
+  r.kernel = to_string(set.kernel);
+  r.form = to_string(set.form);
+  r.method = to_string(set.method);
+  r.methods_used = res.used_explicit && res.used_radau
+                       ? "explicit, then radau from t = " + format_significant(res.switch_time, 9)
+                       : (res.used_explicit ? "explicit" : "radau");
+  r.t_end = set.t_end;
+  if (set.window.periods > 0) {
+    r.summary_periods = set.window.periods;
+    r.period = set.period;
+  } else {
+    r.summary_time = set.window.time;
+  }
+  r.stats = {res.stats.steps,     res.stats.accepted,  res.stats.rejected, res.stats.f_evals,
+             res.stats.jacobians, res.stats.lu_decompositions, wall};
+  const bool have_end = res.q_end.size() == n && res.qd_end.size() == n;
+  for (int i = 0; i < n; ++i) {
+    r.q_end[coords[i]] = have_end ? res.q_end[i] : q0[i];
+    r.qd_end[coords[i] + "_d"] = have_end ? res.qd_end[i] : qd0[i];
+  }
+  r.constraint_residual_max = std::max(res.residual_pos_max, res.residual_vel_max);
+  r.constraints = set.active;
+  r.parameters = set.parameters;
+  r.output_dt = set.dt;
+  r.initial_correction_position = res.initial_correction_pos;
+  r.initial_correction_velocity = res.initial_correction_vel;
+}
+
+/// "" if atol controls the run's result, else why not (README, "Limits").
+std::string atol_problem(const RunResult& r, const ModelSource& source, double atol) {
+  // The absolute tolerance against the motion's own magnitudes (README, "Limits"): the error
+  // per step of a component y_i is held to atol + rtol |y_i|; where atol is more than a hundredth
+  // of a coordinate's or velocity's largest magnitude over the window, not even two digits of
+  // that component (and of what depends on it: reactions, verdicts) are controlled. Components
+  // a million times smaller than the largest of their kind (rounding-level motion) are left out.
+  constexpr double kAtolFraction = 1e-2, kNegligible = 1e-6;
+  auto scale = [&](const std::string& col) {
+    const ColumnExtremes& e = r.extreme(col);
+    const double v = std::max(std::abs(e.min), std::abs(e.max));
+    return std::isfinite(v) ? v : 0.0;
+  };
+  for (int kind = 0; kind < 2; ++kind) {
+    double largest = 0;
+    for (const auto& q : source.coordinates()) largest = std::max(largest, scale(kind ? q + "_d" : q));
+    for (const auto& q : source.coordinates()) {
+      const std::string col = kind ? q + "_d" : q;
+      const double v = scale(col);
+      if (v > 0 && v >= kNegligible * largest && atol > kAtolFraction * v) {
+        return "solver.atol = " + format_significant(atol, 3) + " is more than 1/100 of " +
+               (kind ? "velocity " : "coordinate ") + col + "'s largest magnitude " +
+               format_significant(v, 3) + " over the summary window, so not even its second "
+               "digit (nor the reactions and verdicts that depend on it) is controlled; set "
+               "solver.atol <= " + format_significant(kAtolFraction * 1e-2 * v, 2);
+      }
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 std::vector<std::string> timeseries_columns(const Case& c) {
@@ -236,15 +333,8 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     q0 = options.start->first;
     qd0 = options.start->second;
   } else if (set.equilibrium_start) {
-    const mech::EquilibriumResult e = case_equilibrium(c, set, *model);
-    q0 = e.q;
+    start = equilibrium_start(c, *model, q0);
     qd0.setZero();
-    start = InitialState{};
-    for (int i = 0; i < n; ++i) start->q[source.coordinates()[i]] = e.q[i];
-    start->force_imbalance = e.residual;
-    const auto slow = source.slow_coordinates();
-    for (std::size_t k = 0; k < slow.size() && k < static_cast<std::size_t>(e.holding_force.size()); ++k)
-      start->holding_forces[slow[k]] = e.holding_force[k];
   }
   if (options.wrap_model) model = options.wrap_model(model);
   // The step budget against the run's length, before any integration (README, "Limits").
@@ -254,18 +344,9 @@ RunResult run_case(const Case& c, const RunOptions& options) {
 
   const mech::SimulationOptions so = simulation_options(set);
 
-  // The summary window.
-  double w0 = 0.0;
-  bool clipped = false;
-  if (set.window.periods > 0) {
-    const double len = set.window.periods * set.period;
-    clipped = !(len <= set.t_end);
-    w0 = clipped ? 0.0 : set.t_end - len;
-  } else {
-    clipped = !(set.window.time <= set.t_end);
-    w0 = clipped ? 0.0 : set.t_end - set.window.time;
-  }
-  const double w1 = set.t_end;
+  const SummaryWindow win = summary_window(set);
+  const double w0 = win.start, w1 = set.t_end;
+  const bool clipped = win.clipped;
 
   const int n_out = static_cast<int>(source.outputs().size());
   std::unique_ptr<RowWriter> writer;
@@ -338,69 +419,12 @@ RunResult run_case(const Case& c, const RunOptions& options) {
   const std::size_t n_modes = switched_contacts(c).size();
   const std::vector<std::string> value_cols(r.columns.begin() + 1, r.columns.end() - 2 - n_modes);
   r.extremes = mon.extremes(value_cols);
-  r.case_name = c.name;
-  r.model = source.name();
-  r.model_variant = options.variant;
-  r.kernel = to_string(set.kernel);
-  r.form = to_string(set.form);
-  r.method = to_string(set.method);
-  r.methods_used = res.used_explicit && res.used_radau
-                       ? "explicit, then radau from t = " + format_significant(res.switch_time, 9)
-                       : (res.used_explicit ? "explicit" : "radau");
-  r.t_end = set.t_end;
+  describe_run(r, c, options.variant, res, wall, q0, qd0);
   r.window_start = w0;
   r.window_end = w1;
   r.window_clipped = clipped;
-  if (set.window.periods > 0) {
-    r.summary_periods = set.window.periods;
-    r.period = set.period;
-  } else {
-    r.summary_time = set.window.time;
-  }
-  r.stats = {res.stats.steps,     res.stats.accepted,  res.stats.rejected, res.stats.f_evals,
-             res.stats.jacobians, res.stats.lu_decompositions, wall};
-  const bool have_end = res.q_end.size() == n && res.qd_end.size() == n;
-  for (int i = 0; i < n; ++i) {
-    r.q_end[source.coordinates()[i]] = have_end ? res.q_end[i] : q0[i];
-    r.qd_end[source.coordinates()[i] + "_d"] = have_end ? res.qd_end[i] : qd0[i];
-  }
-  r.constraint_residual_max = std::max(res.residual_pos_max, res.residual_vel_max);
-  r.constraints = set.active;
-  r.parameters = set.parameters;
-  r.output_dt = set.dt;
-  r.initial_correction_position = res.initial_correction_pos;
-  r.initial_correction_velocity = res.initial_correction_vel;
   r.initial_state = std::move(start);
-  // The absolute tolerance against the motion's own magnitudes (README, "Limits"): the error
-  // per step of a component y_i is held to atol + rtol |y_i|; where atol is more than a hundredth
-  // of a coordinate's or velocity's largest magnitude over the window, not even two digits of
-  // that component (and of what depends on it: reactions, verdicts) are controlled. Components
-  // a million times smaller than the largest of their kind (rounding-level motion) are left out.
-  std::string unreliable;
-  {
-    constexpr double kAtolFraction = 1e-2, kNegligible = 1e-6;
-    auto scale = [&](const std::string& col) {
-      const ColumnExtremes& e = r.extreme(col);
-      const double v = std::max(std::abs(e.min), std::abs(e.max));
-      return std::isfinite(v) ? v : 0.0;
-    };
-    for (int kind = 0; kind < 2 && unreliable.empty(); ++kind) {
-      double largest = 0;
-      for (const auto& q : source.coordinates()) largest = std::max(largest, scale(kind ? q + "_d" : q));
-      for (const auto& q : source.coordinates()) {
-        const std::string col = kind ? q + "_d" : q;
-        const double v = scale(col);
-        if (v > 0 && v >= kNegligible * largest && set.atol > kAtolFraction * v) {
-          unreliable = "solver.atol = " + format_significant(set.atol, 3) + " is more than 1/100 of " +
-                       (kind ? "velocity " : "coordinate ") + col + "'s largest magnitude " +
-                       format_significant(v, 3) + " over the summary window, so not even its "
-                       "second digit (nor the reactions and verdicts that depend on it) is "
-                       "controlled; set solver.atol <= " + format_significant(kAtolFraction * 1e-2 * v, 2);
-          break;
-        }
-      }
-    }
-  }
+  const std::string unreliable = atol_problem(r, source, set.atol);
   r.accuracy = {unreliable.empty(), set.rtol, set.atol, unreliable};
   r.complete = complete;
   if (set.contact.switching) r.switching = switching_summary(sres, set);
