@@ -1,5 +1,6 @@
 // A model's client: what one model adds to the generic case and run layers (the sieve's extra
-// case keys, its working-condition verdicts, its summary keys, report and sweep columns).
+// case keys, its working-condition verdicts as additions to the run result, its report and sweep
+// columns, which read the typed result).
 // Every hook has a neutral default, so a model without a client runs as any model does.
 #pragma once
 

@@ -44,6 +44,76 @@ const ColumnExtremes& RunResult::extreme(const std::string& column) const {
   return it->second;
 }
 
+namespace {
+
+/// The scalar at a dotted path below `j`, or null.
+nlohmann::json scalar_at(const nlohmann::json& j, const std::string& dotted) {
+  const nlohmann::json* cur = &j;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = dotted.find('.', start);
+    const std::string part = dotted.substr(start, dot == std::string::npos ? dot : dot - start);
+    if (cur->is_array() && !part.empty() &&
+        part.find_first_not_of("0123456789") == std::string::npos && part.size() < 10 &&
+        std::stoul(part) < cur->size()) {
+      cur = &(*cur)[std::stoul(part)];
+    } else if (cur->is_object() && cur->contains(part)) {
+      cur = &(*cur)[part];
+    } else {
+      return nullptr;
+    }
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return cur->is_primitive() ? *cur : nlohmann::json(nullptr);
+}
+
+/// The number at `m[key]`, or null.
+nlohmann::json number_in(const std::map<std::string, double>& m, const std::string& key) {
+  const auto it = m.find(key);
+  return it == m.end() ? nlohmann::json(nullptr) : null_if_nan(it->second);
+}
+
+}  // namespace
+
+nlohmann::json RunResult::value(const std::string& dotted) const {
+  // The client's keys first: they replace generic ones in summary.json.
+  const std::string top = dotted.substr(0, dotted.find('.'));
+  if (additions.contains(top)) return scalar_at(additions, dotted);
+  const std::string rest = top.size() < dotted.size() ? dotted.substr(top.size() + 1) : "";
+  if (top == "extremes") {
+    const auto dot = rest.rfind('.');
+    if (dot == std::string::npos) return nullptr;
+    const auto it = extremes.find(rest.substr(0, dot));
+    if (it == extremes.end()) return nullptr;
+    const std::string part = rest.substr(dot + 1);
+    const ColumnExtremes& e = it->second;
+    if (part == "min") return null_if_nan(e.min);
+    if (part == "max") return null_if_nan(e.max);
+    if (part == "amplitude") return null_if_nan(e.amplitude());
+    return nullptr;
+  }
+  if (top == "q_end") return number_in(q_end, rest);
+  if (top == "qd_end") return number_in(qd_end, rest);
+  if (top == "parameters") return number_in(parameters, rest);
+  if (top == "stats") {
+    if (rest == "wall_seconds") return stats.wall_seconds;
+    const std::pair<const char*, long> counts[] = {
+        {"steps", stats.steps},         {"accepted", stats.accepted},
+        {"rejected", stats.rejected},   {"f_evals", stats.f_evals},
+        {"jacobians", stats.jacobians}, {"lu_decompositions", stats.lu_decompositions}};
+    for (const auto& [name, v] : counts)
+      if (rest == name) return v;
+    return nullptr;
+  }
+  if (dotted == "constraint_residual_max") return null_if_nan(constraint_residual_max);
+  if (dotted == "window_clipped") return window_clipped;
+  if (dotted == "complete") return complete;
+  if (dotted == "t_end") return null_if_nan(t_end);
+  if (top == "switching") return scalar_at(switching, rest);
+  return scalar_at(to_json(*this), dotted);  // the rest: rarely asked for
+}
+
 nlohmann::json to_json(const RunResult& r) {
   nlohmann::json j;
   j["case"] = r.case_name;

@@ -88,6 +88,11 @@ struct RunResult {
 
   /// The extremes of a value column; throws std::out_of_range naming it if there is none.
   const ColumnExtremes& extreme(const std::string& column) const;
+
+  /// A value by its dotted path in summary.json ("extremes.x.max", "stats.steps", "q_end.s",
+  /// "window_clipped", a client's "margins.contact"), as to_json(*this) holds it: a number, a
+  /// boolean or a string; null if there is none (or it is not finite, or not a scalar).
+  nlohmann::json value(const std::string& dotted) const;
 };
 
 /// summary.json's content (model-files.md, "summary.json"): the generic keys, then the client's.

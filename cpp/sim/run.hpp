@@ -1,6 +1,7 @@
 // Running a case of any model: simulate, the window extremes of every column refined on the
-// dense output, the time series, the summary (the generic keys of model-files.md plus the
-// model client's), the output directory written as a whole, and the engineer's report.
+// dense output, the time series, the typed result (sim/result.hpp: the generic keys of
+// model-files.md plus the model client's additions), the output directory written as a whole
+// (summary.json = to_json(result)), and the engineer's report.
 #pragma once
 
 #include <filesystem>

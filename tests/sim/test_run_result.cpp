@@ -39,6 +39,35 @@ void check_written(const RunResult& r, const fs::path& dir) {
   BOOST_TEST(written.dump() == typed.dump());
 }
 
+/// Every scalar of summary.json by its dotted path (array elements by index).
+void leaves(const nlohmann::json& j, const std::string& path,
+            std::vector<std::pair<std::string, nlohmann::json>>& out) {
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items()) leaves(v, path.empty() ? k : path + "." + k, out);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) leaves(j[i], path + "." + std::to_string(i), out);
+  } else {
+    out.emplace_back(path, j);
+  }
+}
+
+/// RunResult::value says what to_json says, for every scalar (non-finite numbers as null).
+void check_values(const RunResult& r) {
+  std::vector<std::pair<std::string, nlohmann::json>> all;
+  leaves(to_json(r), "", all);
+  BOOST_TEST(all.size() > 20u);
+  for (const auto& [path, v] : all) {
+    const nlohmann::json expected =
+        v.is_number_float() && !std::isfinite(v.get<double>()) ? nlohmann::json(nullptr) : v;
+    const nlohmann::json got = r.value(path);
+    const nlohmann::json got_or_null =
+        got.is_number_float() && !std::isfinite(got.get<double>()) ? nlohmann::json(nullptr) : got;
+    BOOST_TEST(got_or_null.dump() == expected.dump(), path);
+  }
+  BOOST_TEST(r.value("no_such_key").is_null());
+  BOOST_TEST(r.value("extremes").is_null());  // not a scalar
+}
+
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(fields_say_what_summary_json_says) {
@@ -69,6 +98,7 @@ BOOST_AUTO_TEST_CASE(fields_say_what_summary_json_says) {
   BOOST_TEST(r.q_end.at(phi) == to_json(r)["q_end"][phi].get<double>());
   BOOST_TEST(r.stats.steps > 0);
   BOOST_TEST(r.additions.empty());  // the slider-crank has no client
+  check_values(r);
 }
 
 // A switching run (its "switching" object) reads back to the same result and report.
@@ -86,6 +116,7 @@ BOOST_AUTO_TEST_CASE(from_json_reads_a_summary_back) {
   BOOST_TEST(to_json(back).dump() == s.dump());
   BOOST_TEST(back.columns == r.columns);
   BOOST_TEST(human_report(c, back) == human_report(c, r));
+  check_values(r);
 }
 
 namespace {
@@ -141,5 +172,7 @@ t_end = 0.2
   BOOST_TEST(c.client->derived_columns(r, c).at("tension_max") == r.extreme("tension").max);
   const RunResult back = result_from_json(s, timeseries_columns(c));
   BOOST_TEST(back.additions == r.additions);
+  check_values(r);
+  BOOST_TEST(r.value("tension.max").get<double>() == r.extreme("tension").max);
   register_client("pendulum", nullptr);
 }
