@@ -88,9 +88,9 @@ int main(int argc, char** argv) {
   const fs::path out = fs::temp_directory_path() / ("pcsim_bench_sieve_" + std::to_string(::getpid()));
 
   // The reference: the same case at rtol 1e-11 (Radau, default path).
-  const nlohmann::json ref = run_case(load_case(file, {{"solver.rtol", "1e-11"},
-                                                       {"solver.atol", "1e-13"},
-                                                       {"solver.method", "radau"}}));
+  const nlohmann::json ref = to_json(run_case(load_case(file, {{"solver.rtol", "1e-11"},
+                                                               {"solver.atol", "1e-13"},
+                                                               {"solver.method", "radau"}})));
   const std::vector<Config> configs = {
       {"release path (AD closed form, Radau, LAPACK, dense solve)",
        {{"solver.method", "radau"}, {"solver.linear_algebra", "lapack"}},
@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
       RunOptions o;
       o.out_dir = out;
       o.variant = configs[c].variant;
-      nlohmann::json s = run_case(cs, o);
+      nlohmann::json s = to_json(run_case(cs, o));
       const double w = wall_now() - w0, cp = cpu_now() - c0;
       rows[c].wall = std::min(rows[c].wall, w);
       rows[c].cpu = std::min(rows[c].cpu, cp);

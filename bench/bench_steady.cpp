@@ -61,7 +61,7 @@ void compare(const std::string& file, const std::string& label, int repeats) {
   sieve::testing::register_sieve_variants();
   const sim::Case c = sim::load_case(file);
   nlohmann::json run;
-  const double t_run = min_time(repeats, [&] { run = sim::run_case(c); });
+  const double t_run = min_time(repeats, [&] { run = sim::to_json(sim::run_case(c)); });
   // The 10 s run on the path of the time issue 13 was filed (before issue 14's speed-ups: the AD
   // closed form, Radau, LAPACK, the dense compatibility solve; bench_sieve's "release path").
   const sim::Case old_case = sim::load_case(file, {{"solver.method", "radau"}, {"solver.linear_algebra", "lapack"}});
@@ -131,7 +131,7 @@ void compare(const std::string& file, const std::string& label, int repeats) {
     nlohmann::json lr;
     double t = 0;
     try {
-      t = min_time(std::min(repeats, 3), [&] { lr = sim::run_case(longer); });
+      t = min_time(std::min(repeats, 3), [&] { lr = sim::to_json(sim::run_case(longer)); });
     } catch (const NumericalError& e) {  // the paper's roller leaves the deck near 15 s
       std::printf("  %-44s   %s\n", ("pcsim run, " + std::string(t_end) + " s").c_str(), e.what());
       break;

@@ -36,27 +36,26 @@ void run(const RunArgs& a) {
   pcsim::sim::RunOptions options;
   options.out_dir = a.out_dir.empty() ? std::filesystem::path("out") / c.name
                                       : std::filesystem::path(a.out_dir);
-  nlohmann::json summary;
+  pcsim::sim::RunResult result;
   try {
-    summary = pcsim::sim::run_case(c, options);
+    result = pcsim::sim::run_case(c, options);
   } catch (const pcsim::sim::UnreliableResult& e) {
     // The run completed but its tolerance does not control the result: the report is printed
     // (with its UNRELIABLE line naming solver.atol and a value that would do) so the user sees
     // what was computed, and the run still fails with exit 3 and the reason on stderr.
-    std::fputs(pcsim::sim::human_report(c, e.summary()).c_str(), stdout);
+    std::fputs(pcsim::sim::human_report(c, e.result()).c_str(), stdout);
     std::fflush(stdout);
     throw;
   }
-  std::fputs(pcsim::sim::human_report(c, summary).c_str(), stdout);
-  if (summary.contains("initial_state")) {  // initial.from = "equilibrium"
-    const auto& e = summary["initial_state"];
+  std::fputs(pcsim::sim::human_report(c, result).c_str(), stdout);
+  if (const auto& e = result.initial_state) {  // initial.from = "equilibrium"
     std::printf("  started from the static equilibrium (initial.from): force imbalance %.2g",
-                e["force_imbalance"].get<double>());
-    for (auto it = e["holding_forces"].begin(); it != e["holding_forces"].end(); ++it)
-      std::printf(", %s held by %.4g", it.key().c_str(), it.value().get<double>());
+                e->force_imbalance);
+    for (const auto& [name, force] : e->holding_forces)
+      std::printf(", %s held by %.4g", name.c_str(), force);
     std::printf("\n");
   }
-  if (summary.contains("switching"))
+  if (!result.switching.is_null())
     std::printf("  wrote %s, %s and %s\n", (*options.out_dir / "summary.json").string().c_str(),
                 (*options.out_dir / "timeseries.csv").string().c_str(),
                 (*options.out_dir / "events.csv").string().c_str());

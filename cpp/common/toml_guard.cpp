@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/location.hpp"
 
 namespace pcsim {
 
@@ -18,7 +19,7 @@ void check_toml_nesting(const std::string& text, const std::filesystem::path& fi
   int parts = 1, line = 1;
   std::string key_start;          // the first characters of the current key, for the message
   auto refuse = [&](const std::string& what) {
-    throw InputError((file.empty() ? std::string("<case>") : file.string()) + ":" + std::to_string(line) + ": key '" + key_start +
+    throw InputError(input_location(file) + ":" + std::to_string(line) + ": key '" + key_start +
                      "...': expected at most " +
                      std::to_string(kMaxNesting) + " levels of nesting (pcsim files need at most 4), got " +
                      what);

@@ -12,6 +12,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "mech/simulation.hpp"
 #include "sim/extremes.hpp"
 #include "sim/file_source.hpp"
@@ -133,10 +134,10 @@ class SieveMonitor final : public sim::ClientMonitor {
   double stop_time() const override { return stop_t_; }
   std::string stop_reason() const override { return stop_reason_; }
 
-  void finish(const mech::SimulationResult& res, const std::map<std::string, sim::ColumnExtremes>&,
-              nlohmann::json& j) override {
+  void finish(const mech::SimulationResult& res, sim::RunResult& result) override {
+    nlohmann::json& j = result.additions;
     const double weight = set_.m2 * set_.g;
-    const std::string variant = j.value("model_variant", std::string());
+    const std::string& variant = result.model_variant;
     j["model_form"] = variant.empty() ? std::string("model_file") : variant;
     auto half_pp = [&](int sig) { return 0.5 * (maxima_[sig].value + minima_[sig].value); };
     j["amplitude"] = {{"x", half_pp(sig_x)}, {"y", half_pp(sig_y)}, {"theta", half_pp(sig_theta)}};
@@ -307,7 +308,7 @@ class SieveClient final : public sim::Client {
   // inconsistent start instead of projecting it, so the assumption "start at rest on the deck"
   // stays what the case says).
   void validate(const std::filesystem::path& file, const toml::table& t) const override {
-    const std::string where = file.empty() ? std::string("<case>") : file.string();
+    const std::string where = input_location(file);
     auto fail = [&](const std::string& key, const std::string& expected, const toml::node* got) {
       std::string msg = where + ": key '" + key + "': expected " + expected;
       if (got) msg += ", got " + format_significant(got->value<double>().value_or(NAN), 17);
@@ -409,12 +410,13 @@ class SieveClient final : public sim::Client {
     return std::make_unique<SieveMonitor>(std::move(set));
   }
 
-  std::string report(const sim::Case& c, const nlohmann::json& s) const override;
+  std::string report(const sim::Case& c, const sim::RunResult& r) const override;
 
   std::vector<std::string> sweep_columns() const override { return sieve_sweep_columns(); }
 
-  std::map<std::string, double> derived_columns(const nlohmann::json& summary,
+  std::map<std::string, double> derived_columns(const sim::RunResult& r,
                                                 const sim::Case& c) const override {
+    const nlohmann::json& summary = r.additions;
     std::map<std::string, double> out;
     const double f = *c.table["parameters"]["f"].value<double>();
     if (summary.contains("R_u_min_over_weight") && summary["R_u_min_over_weight"].is_number())
@@ -452,7 +454,8 @@ class SieveClient final : public sim::Client {
   }
 };
 
-std::string SieveClient::report(const sim::Case& c, const nlohmann::json& s) const {
+std::string SieveClient::report(const sim::Case& c, const sim::RunResult& r) const {
+  const nlohmann::json s = sim::to_json(r);
   std::ostringstream os;
   char buf[256];
   auto num = [](const nlohmann::json& v, const char* fmt) {
@@ -504,7 +507,7 @@ std::string SieveClient::report(const sim::Case& c, const nlohmann::json& s) con
   if (s.contains("switching"))
     os << "  (with contact.switching the verdicts say whether the roller ever left the deck or "
           "slipped; what it did instead:)\n"
-       << sim::switching_report(s);
+       << sim::switching_report(r.switching);
   const auto& st = s["stats"];
   os << "  solver: " << st["steps"] << " steps (" << st["accepted"] << " accepted, "
      << st["rejected"] << " rejected), " << st["f_evals"] << " f-evaluations, " << st["jacobians"]

@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "sim/client.hpp"
 
 namespace pcsim::sim {
@@ -28,7 +29,7 @@ constexpr const char* kFormatHelp = "the case format: README, \"Case files\"";
 const std::vector<std::string> kSections = {"parameters", "initial", "constraints", "solver",
                                             "output", "contact"};
 
-std::string where(const fs::path& file) { return file.empty() ? std::string("<case>") : file.string(); }
+std::string where(const fs::path& file) { return input_location(file); }
 
 [[noreturn]] void fail(const fs::path& file, const std::string& key, const std::string& expected,
                        const std::string& got = "") {
@@ -107,53 +108,18 @@ KeySpec number_key(std::string section, std::string name, std::string meaning,
   return k;
 }
 
-KeySpec integer_key(std::string section, std::string name, std::string meaning, double min,
-                    double max) {
-  KeySpec k;
-  k.section = std::move(section);
-  k.name = std::move(name);
-  k.type = Type::integer;
-  k.meaning = std::move(meaning);
-  k.min = min;
-  k.max = max;
-  return k;
-}
-
-/// The largest integer a case may give for a count (summary periods): larger values are
-/// refused instead of wrapping around in an int.
-constexpr double kMaxCount = 1e6;
-/// The smallest relative tolerance a case may ask for (README, "Limits and failure behaviour").
-constexpr double kMinRtol = 1e-13;
-/// The default tolerances (README, "Case files"): a 1 m pendulum released horizontally
-/// (IFToMM A01) ends 10 s later within 1.1e-7 m of the exact motion with them (1.8e-5 m with
-/// the former 1e-6 / 1e-8, whose error showed in the 5th of the report's 6 printed digits).
-constexpr double kDefaultRtol = 1e-8;
-constexpr double kDefaultAtol = 1e-10;
-/// The largest relative tolerance (README, "Limits"): the reports print 3 to 6 significant
-/// digits and their verdicts compare margins to 3; a relative error per step above 1e-3
-/// cannot give even the third digit.
-constexpr double kMaxRtol = 1e-3;
-/// The largest absolute tolerance in any unit: a run checks it against its own coordinates'
-/// magnitudes as well (run.cpp, tolerance_check).
-constexpr double kMaxAtol = 1e-3;
-/// The shortest run a case may ask for, s.
-constexpr double kMinTEnd = 1e-9;
-/// The largest solver.max_steps (the default is 1e6).
-constexpr double kMaxSteps = 1e9;
-
 bool model_has_period(const ModelSource& m) {
   ParameterValues p;
   for (const auto& s : m.parameters()) p[s.name] = s.value;
   return std::isfinite(m.period(p));
 }
 
+// The model's keys (parameters, initial values, constraints) between the common keys of the
+// key table (sim/keys.hpp), then the client's.
 std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
+  const std::vector<KeySpec>& common = common_keys();
   std::vector<KeySpec> keys;
-  KeySpec k;
-  k.type = Type::string;
-  k.name = "name";
-  k.meaning = "the case name";
-  keys.push_back(k);
+  keys.push_back(common_key("name"));
   for (const auto& p : m.parameters()) {
     KeySpec s = number_key("parameters", p.name,
                            (p.meaning.empty() ? "model parameter" : p.meaning) +
@@ -167,18 +133,9 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
     keys.push_back(number_key("initial", c, "initial " + c, std::nullopt));
     keys.push_back(number_key("initial", c + "_d", "initial velocity of " + c, std::nullopt));
   }
-  if (std::find(m.coordinates().begin(), m.coordinates().end(), "from") == m.coordinates().end()) {
-    KeySpec from;
-    from.section = "initial";
-    from.name = "from";
-    from.type = Type::string;
-    from.meaning = "where the run starts: \"state\", the [initial] values as given (the default), "
-                   "or \"equilibrium\", the static equilibrium under the forces at rest averaged "
-                   "over an excitation period, slow coordinates held at their [initial] values "
-                   "(docs/steady.md)";
-    from.choices = {"state", "equilibrium"};
-    keys.push_back(from);
-  }
+  // initial.from, unless the model has a coordinate of that name.
+  if (std::find(m.coordinates().begin(), m.coordinates().end(), "from") == m.coordinates().end())
+    keys.push_back(common_key("initial.from"));
   for (const auto& c : m.constraints()) {
     KeySpec s;
     s.section = "constraints";
@@ -188,95 +145,12 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
     s.bool_default = c.active_by_default;
     keys.push_back(s);
   }
-  KeySpec kernel;
-  kernel.section = "solver";
-  kernel.name = "kernel";
-  kernel.type = Type::string;
-  kernel.meaning = "the kernel implementation";
-  kernel.choices = {"fortran", "cpp"};
-  kernel.string_default = "fortran";
-  keys.push_back(kernel);
-  KeySpec form = kernel;
-  form.name = "form";
-  form.meaning = "the formulation";
-  form.choices = {"ode", "dae"};
-  form.string_default = "ode";
-  keys.push_back(form);
-  KeySpec method = kernel;
-  method.name = "method";
-  method.meaning = "the integrator: Radau IIA, the explicit Dormand-Prince 8(5,3) pair, or auto "
-                   "(explicit until its stiffness test fires, then Radau)";
-  method.choices = {"radau", "explicit", "auto"};
-  method.string_default = "auto";
-  keys.push_back(method);
-  KeySpec la = kernel;
-  la.name = "linear_algebra";
-  la.meaning = "Radau's linear algebra: the project's small-matrix LU on the reduced "
-               "(second-order) systems where it is faster than LAPACK (auto), always the own LU, "
-               "or LAPACK's LU on the full system (the path before issue 14, reproducing earlier "
-               "results bit for bit)";
-  la.choices = {"auto", "own", "lapack"};
-  la.string_default = "auto";
-  keys.push_back(la);
-  {
-    KeySpec rtol = number_key("solver", "rtol",
-                              "relative tolerance; below 1e-13 the error estimates are dominated "
-                              "by the rounding of double precision, above 1e-3 no printed "
-                              "digit of the report would be reliable",
-                              kDefaultRtol, kMinRtol, false);
-    rtol.max = kMaxRtol;
-    keys.push_back(rtol);
-    KeySpec atol = number_key("solver", "atol",
-                              "absolute tolerance, in the units of each coordinate and velocity; "
-                              "at most 1e-3, and a run whose coordinates move by less than 100 "
-                              "atol is reported unreliable (exit 3)",
-                              kDefaultAtol, 0.0, true);
-    atol.max = kMaxAtol;
-    keys.push_back(atol);
+  const bool periodic = model_has_period(m);
+  for (const auto& k : common) {
+    if (k.section.empty() || k.section == "initial") continue;  // placed above
+    if (k.dotted() == "output.summary_periods" && !periodic) continue;
+    keys.push_back(k);
   }
-  keys.push_back(number_key("solver", "t_end",
-                            "end time, s; at least 1e-9 s, so the run and its summary window are "
-                            "more than a rounding error long",
-                            10.0, kMinTEnd, false));
-  keys.push_back(number_key("solver", "h0", "initial step, s (0: automatic)", 0.0, 0.0, false));
-  keys.push_back(integer_key("solver", "max_steps",
-                             "the most integration steps a run may take before it fails with "
-                             "'too many steps' (and the time reached)",
-                             1, kMaxSteps));
-  keys.push_back(number_key("output", "dt", "output interval, s", 1e-3, 0.0, true));
-  if (model_has_period(m))
-    keys.push_back(integer_key("output", "summary_periods",
-                               "excitation periods in the summary window", 1, kMaxCount));
-  keys.push_back(number_key("output", "summary_time",
-                            "length of the summary window, s (from t_end back)", std::nullopt, 0.0,
-                            true));
-  // [contact] (issue 12): switching the unilateral constraints.
-  KeySpec sw;
-  sw.section = "contact";
-  sw.name = "switching";
-  sw.type = Type::boolean;
-  sw.meaning = "switch the unilateral constraints: lift-off, flight, impact, slip and sticking "
-               "again (docs/switching.md); false keeps every constraint imposed, as the paper does";
-  sw.bool_default = false;
-  keys.push_back(sw);
-  keys.push_back(number_key("contact", "zeno_time",
-                            "s; an impact whose rebound would fly shorter than this closes the "
-                            "contact (accumulation of impacts)",
-                            1e-6, 0.0, true));
-  keys.push_back(number_key("contact", "flight_hmax",
-                            "s; the largest step while a contact flies or slides (default: a "
-                            "16th of the excitation period, or none)",
-                            std::nullopt, 0.0, true));
-  keys.push_back(integer_key("contact", "max_events",
-                             "the most switching events a run may have before it fails", 1,
-                             kMaxSteps));
-  KeySpec ls = kernel;
-  ls.section = "contact";
-  ls.name = "lcp_solver";
-  ls.meaning = "the Siconos LCP solver for several contacts switching at once";
-  ls.choices = {"lemke", "enumerative"};
-  ls.string_default = "lemke";
-  keys.push_back(ls);
   if (client)
     for (auto& e : client->extra_keys()) keys.push_back(std::move(e));
   return keys;
@@ -521,7 +395,7 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
   for (const auto& k : r.keys) {
     toml::table* sec = k.section.empty() ? &t : section_table(t, k.section, true);
     if (!sec) fail(file, k.section, "a table [" + k.section + "]");
-    if (!sec->contains(k.name)) {
+    if (!sec->contains(k.name) && k.fill_default) {
       if (k.number_default) sec->insert(k.name, *k.number_default);
       else if (k.bool_default) sec->insert(k.name, *k.bool_default);
       else if (k.string_default) sec->insert(k.name, *k.string_default);
@@ -559,10 +433,12 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
   if (r.client) r.client->validate(file, t);
 }
 
+Setup setup_of(const Case& c);  // below, with the readers of the typed keys
+
 // Checks the parameter values by instantiating the model once (the model's own range checks),
 // so bad values are refused by key before any computation.
 void check_model_accepts(const fs::path& file, const Case& c) {
-  const Setup s = setup_of(c);
+  const Setup& s = c.setup;
   try {
     c.model->instantiate(s.parameters, s.q0, 0.0, c.table, "");
   } catch (const InputError& e) {
@@ -621,6 +497,7 @@ Case finish_case(const fs::path& file, toml::table t, const std::vector<Override
          "a case name that can name its output directory (" + problem + ")" +
              (named ? "" : "; without a 'name' key the case file's name is used, so set one"),
          "\"" + printable(c.name) + "\"");
+  c.setup = setup_of(c);
   check_model_accepts(file, c);
   return c;
 }
@@ -765,6 +642,24 @@ std::string to_toml(const Case& c, const std::string& title) {
   return os.str();
 }
 
+namespace {
+
+// A common key's value in a validated table, or its default from the key table (the keys whose
+// default is not written into the table, and tables validated before a default was added).
+double number_of(const toml::table& t, const char* dotted) {
+  if (auto v = t.at_path(dotted).value<double>()) return *v;
+  return *common_key(dotted).number_default;
+}
+std::string string_of(const toml::table& t, const char* dotted) {
+  if (auto v = t.at_path(dotted).value<std::string>()) return *v;
+  return *common_key(dotted).string_default;
+}
+bool bool_of(const toml::table& t, const char* dotted) {
+  if (auto v = t.at_path(dotted).value<bool>()) return *v;
+  return *common_key(dotted).bool_default;
+}
+
+// The typed view of a validated case (Case::setup).
 Setup setup_of(const Case& c) {
   const toml::table& t = c.table;
   const ModelSource& m = *c.model;
@@ -780,34 +675,34 @@ Setup setup_of(const Case& c) {
   }
   for (const auto& con : m.constraints())
     if (t["constraints"][con.name].value_or(con.active_by_default)) s.active.push_back(con.name);
-  s.kernel = *parse_kernel(t["solver"]["kernel"].value_or(std::string("fortran")));
-  s.form = t["solver"]["form"].value_or(std::string("ode")) == "dae" ? mech::Form::dae : mech::Form::ode;
-  s.method = *parse_ode_method(t["solver"]["method"].value_or(std::string("auto")));
-  const std::string la = t["solver"]["linear_algebra"].value_or(std::string("auto"));
+  s.kernel = *parse_kernel(string_of(t, "solver.kernel"));
+  s.form = string_of(t, "solver.form") == "dae" ? mech::Form::dae : mech::Form::ode;
+  s.method = *parse_ode_method(string_of(t, "solver.method"));
+  const std::string la = string_of(t, "solver.linear_algebra");
   s.linear_algebra = la == "own"      ? RadauOptions::LinearAlgebra::own_lu
                      : la == "lapack" ? RadauOptions::LinearAlgebra::lapack
                                       : RadauOptions::LinearAlgebra::automatic;
-  s.rtol = t["solver"]["rtol"].value_or(kDefaultRtol);
-  s.atol = t["solver"]["atol"].value_or(kDefaultAtol);
-  s.t_end = t["solver"]["t_end"].value_or(10.0);
-  s.h0 = t["solver"]["h0"].value_or(0.0);
-  s.max_steps = static_cast<long>(t["solver"]["max_steps"].value_or(int64_t{1000000}));
-  s.dt = t["output"]["dt"].value_or(1e-3);
-  s.equilibrium_start = t["initial"]["from"].value_or(std::string("state")) == "equilibrium";
+  s.rtol = number_of(t, "solver.rtol");
+  s.atol = number_of(t, "solver.atol");
+  s.t_end = number_of(t, "solver.t_end");
+  s.h0 = number_of(t, "solver.h0");
+  s.max_steps = static_cast<long>(number_of(t, "solver.max_steps"));
+  s.dt = number_of(t, "output.dt");
+  s.equilibrium_start = string_of(t, "initial.from") == "equilibrium";
   s.period = m.period(s.parameters);
   if (auto k = t["output"]["summary_periods"].value<int64_t>()) {
     s.window.periods = static_cast<int>(*k);
   } else if (auto w = t["output"]["summary_time"].value<double>()) {
     s.window.time = *w;
   } else if (std::isfinite(s.period)) {
-    s.window.periods = 5;  // the default window: the last 5 excitation periods
+    s.window.periods = static_cast<int>(number_of(t, "output.summary_periods"));
   } else {
     s.window.time = s.t_end;  // no excitation period: the whole run
   }
-  s.contact.switching = t["contact"]["switching"].value_or(false);
-  s.contact.zeno_time = t["contact"]["zeno_time"].value_or(1e-6);
-  s.contact.max_events = static_cast<long>(t["contact"]["max_events"].value_or(int64_t{1000000}));
-  s.contact.lcp_solver = t["contact"]["lcp_solver"].value_or(std::string("lemke"));
+  s.contact.switching = bool_of(t, "contact.switching");
+  s.contact.zeno_time = number_of(t, "contact.zeno_time");
+  s.contact.max_events = static_cast<long>(number_of(t, "contact.max_events"));
+  s.contact.lcp_solver = string_of(t, "contact.lcp_solver");
   if (auto h = t["contact"]["flight_hmax"].value<double>())
     s.contact.flight_hmax = *h;
   else if (std::isfinite(s.period))
@@ -815,5 +710,9 @@ Setup setup_of(const Case& c) {
   if (c.client) c.client->adjust(t, s);
   return s;
 }
+
+}  // namespace
+
+void retype(Case& c) { c.setup = setup_of(c); }
 
 }  // namespace pcsim::sim

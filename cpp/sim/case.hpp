@@ -18,29 +18,46 @@
 #include "common/toml_guard.hpp"
 #include "mech/status.hpp"
 #include "ode/integrate.hpp"
+#include "sim/keys.hpp"
 #include "sim/model_source.hpp"
 
 namespace pcsim::sim {
 
 class Client;
 
-/// What one case key must hold.
-struct KeySpec {
-  enum class Type { number, integer, boolean, string };
-  std::string section;  ///< "" for the top level, e.g. "parameters", "constraints.added"
-  std::string name;
-  Type type = Type::number;
-  std::string meaning;  ///< unit and meaning, for messages
-  double min = -std::numeric_limits<double>::infinity();
-  double max = std::numeric_limits<double>::infinity();
-  bool min_exclusive = false, max_exclusive = false;
-  std::vector<std::string> choices;  ///< allowed strings (empty: any)
-  /// The default filled in when the case does not set the key (none: the key stays absent).
-  std::optional<double> number_default;
-  std::optional<bool> bool_default;
-  std::optional<std::string> string_default;
+/// The summary window of a run.
+struct WindowSpec {
+  int periods = 0;      ///< > 0: the last `periods` excitation periods
+  double time = 0.0;    ///< > 0 (periods == 0): the last `time` seconds
+};
 
-  std::string dotted() const { return section.empty() ? name : section + "." + name; }
+/// The typed view of a validated case: what a run needs, as numbers. Every field comes from
+/// the case's keys, their defaults from the key table (sim/keys.hpp); a Setup is built once,
+/// when the case is loaded (Case::setup), never on its own.
+struct Setup {
+  ParameterValues parameters;           ///< every parameter, set or default
+  Eigen::VectorXd q0, qd0;              ///< initial coordinates and velocities
+  std::vector<std::string> active;      ///< active constraints, in the model's offer order
+  Kernel kernel{};                      ///< solver.kernel
+  mech::Form form{};                    ///< solver.form
+  OdeMethod method{};                   ///< solver.method
+  RadauOptions::LinearAlgebra linear_algebra{};  ///< solver.linear_algebra
+  double rtol{}, atol{}, t_end{}, h0{};  ///< solver.rtol, .atol, .t_end (s), .h0 (s)
+  long max_steps{};                     ///< solver.max_steps
+  double dt{};                          ///< output.dt: the time-series interval, s
+  /// initial.from = "equilibrium": the run starts from the static equilibrium (run_case solves
+  /// it from q0, slow coordinates held; docs/steady.md) instead of (q0, qd0).
+  bool equilibrium_start{};
+  WindowSpec window;                    ///< output.summary_periods or output.summary_time
+  double period = std::numeric_limits<double>::quiet_NaN();  ///< excitation period, NaN if none
+  /// [contact] (issue 12): switch the unilateral constraints (lift-off, impact, slip, stick).
+  struct Contact {
+    bool switching{};
+    double zeno_time{};           ///< s, the accumulation rule (mech/switching.hpp)
+    double flight_hmax{};         ///< s, largest step in flight or slip (0: none)
+    long max_events{};
+    std::string lcp_solver;
+  } contact;
 };
 
 /// A validated case: the TOML table after overrides and defaults, the model it names and the
@@ -52,6 +69,9 @@ struct Case {
   toml::table table;                         ///< every key, defaults filled in
   std::shared_ptr<const ModelSource> model;  ///< the model, with any added constraints
   std::shared_ptr<const Client> client;      ///< model-specific extras, or null
+  /// The typed setup, built once when the case is loaded (and by retype after a direct edit of
+  /// `table`).
+  Setup setup;
 };
 
 /// One override in `--set KEY=VALUE` form: a dotted key and the value as text.
@@ -110,40 +130,8 @@ bool is_integer_key(const Case& c, const std::string& dotted_key);
 /// model file is named by its absolute path). `title` is the comment on the first line.
 std::string to_toml(const Case& c, const std::string& title = "pcsim case");
 
-/// The summary window of a run.
-struct WindowSpec {
-  int periods = 0;      ///< > 0: the last `periods` excitation periods
-  double time = 0.0;    ///< > 0 (periods == 0): the last `time` seconds
-};
-
-/// The typed view of a validated case: what a run needs, as numbers.
-struct Setup {
-  ParameterValues parameters;           ///< every parameter, set or default
-  Eigen::VectorXd q0, qd0;              ///< initial coordinates and velocities
-  std::vector<std::string> active;      ///< active constraints, in the model's offer order
-  Kernel kernel = Kernel::fortran;
-  mech::Form form = mech::Form::ode;
-  OdeMethod method = OdeMethod::automatic;
-  RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
-  double rtol = 1e-8, atol = 1e-10, t_end = 10.0, h0 = 0.0;
-  long max_steps = 1000000;
-  double dt = 1e-3;                     ///< time-series interval
-  /// initial.from = "equilibrium": the run starts from the static equilibrium (run_case solves
-  /// it from q0, slow coordinates held; docs/steady.md) instead of (q0, qd0).
-  bool equilibrium_start = false;
-  WindowSpec window;
-  double period = std::numeric_limits<double>::quiet_NaN();  ///< excitation period, NaN if none
-  /// [contact] (issue 12): switch the unilateral constraints (lift-off, impact, slip, stick).
-  struct Contact {
-    bool switching = false;
-    double zeno_time = 1e-6;      ///< s, the accumulation rule (mech/switching.hpp)
-    double flight_hmax = 0.0;     ///< s, largest step in flight or slip (0: none)
-    long max_events = 1000000;
-    std::string lcp_solver = "lemke";
-  } contact;
-};
-
-/// Reads the setup out of a validated case (the client may adjust it, e.g. the sieve's s0).
-Setup setup_of(const Case& c);
+/// Rebuilds c.setup from c.table after the table was edited in place (the client may adjust it,
+/// e.g. the sieve's s0). The case must have been valid before the edit and stay valid.
+void retype(Case& c);
 
 }  // namespace pcsim::sim

@@ -1,5 +1,6 @@
 // A model's client: what one model adds to the generic case and run layers (the sieve's extra
-// case keys, its working-condition verdicts, its summary keys, report and sweep columns).
+// case keys, its working-condition verdicts as additions to the run result, its report and sweep
+// columns, which read the typed result).
 // Every hook has a neutral default, so a model without a client runs as any model does.
 #pragma once
 
@@ -15,14 +16,9 @@
 
 #include "mech/simulation.hpp"
 #include "sim/case.hpp"
+#include "sim/result.hpp"
 
 namespace pcsim::sim {
-
-/// The generic summary's view of the window extremes, by column name.
-struct ColumnExtremes {
-  double min = 0.0, max = 0.0;
-  double t_min = 0.0, t_max = 0.0;
-};
 
 /// Watches one run on behalf of a client (created per run; not shared between threads).
 class ClientMonitor {
@@ -34,11 +30,10 @@ class ClientMonitor {
   virtual bool observe(const mech::StepView& v) = 0;
   virtual double stop_time() const { return 0.0; }
   virtual std::string stop_reason() const { return ""; }
-  /// Adds the client's keys to the summary after a successful run. `extremes` holds the window
-  /// extremes of every column (coordinates, velocities, reactions, outputs) by name.
-  virtual void finish(const mech::SimulationResult& result,
-                      const std::map<std::string, ColumnExtremes>& extremes,
-                      nlohmann::json& summary) = 0;
+  /// Adds the client's keys to result.additions at the end of the run. `result` holds the
+  /// generic fields, among them the window extremes of every column (coordinates, velocities,
+  /// reactions, outputs) by name.
+  virtual void finish(const mech::SimulationResult& engine, RunResult& result) = 0;
 };
 
 /// One figure of `pcsim plot` for a run's time series: curves by column name, and an optional
@@ -76,11 +71,11 @@ class Client {
     return nullptr;
   }
   /// The engineer's report for `pcsim run`; "" for the generic one.
-  virtual std::string report(const Case& c, const nlohmann::json& summary) const { return ""; }
+  virtual std::string report(const Case& c, const RunResult& result) const { return ""; }
   /// The summary columns of sweep.csv; empty for the generic ones.
   virtual std::vector<std::string> sweep_columns() const { return {}; }
-  /// Derived sweep columns (e.g. the sieve's margins) for a summary: name -> value.
-  virtual std::map<std::string, double> derived_columns(const nlohmann::json& summary,
+  /// Derived sweep columns (e.g. the sieve's margins) for a run: name -> value.
+  virtual std::map<std::string, double> derived_columns(const RunResult& result,
                                                         const Case& c) const {
     return {};
   }

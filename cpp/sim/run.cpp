@@ -17,6 +17,7 @@
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "mech/projection.hpp"
 #include "mech/simulation.hpp"
 #include "mech/switching.hpp"
@@ -157,8 +158,89 @@ class Monitor {
   std::vector<double> row_;
 };
 
-nlohmann::json null_if_nan(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+/// initial.from = "equilibrium": the static equilibrium (case_equilibrium) into q0, and what
+/// the result says of it.
+InitialState equilibrium_start(const Case& c, const mech::Model& model, Eigen::VectorXd& q0) {
+  const mech::EquilibriumResult e = case_equilibrium(c, c.setup, model);
+  q0 = e.q;
+  InitialState start;
+  const auto& coords = c.model->coordinates();
+  for (std::size_t i = 0; i < coords.size(); ++i) start.q[coords[i]] = e.q[static_cast<int>(i)];
+  start.force_imbalance = e.residual;
+  const auto slow = c.model->slow_coordinates();
+  for (std::size_t k = 0; k < slow.size() && k < static_cast<std::size_t>(e.holding_force.size()); ++k)
+    start.holding_forces[slow[k]] = e.holding_force[static_cast<int>(k)];
+  return start;
+}
+
+/// The generic fields of a run's result: the case and solver as run, the engine's counters,
+/// the final state (the start where the engine has none), the parameters and constraints.
+void describe_run(RunResult& r, const Case& c, const std::string& variant,
+                  const mech::SimulationResult& res, double wall, const Eigen::VectorXd& q0,
+                  const Eigen::VectorXd& qd0) {
+  const Setup& set = c.setup;
+  const auto& coords = c.model->coordinates();
+  const int n = static_cast<int>(coords.size());
+  r.case_name = c.name;
+  r.model = c.model->name();
+  r.model_variant = variant;
+  r.kernel = to_string(set.kernel);
+  r.form = to_string(set.form);
+  r.method = to_string(set.method);
+  r.methods_used = res.used_explicit && res.used_radau
+                       ? "explicit, then radau from t = " + format_significant(res.switch_time, 9)
+                       : (res.used_explicit ? "explicit" : "radau");
+  r.t_end = set.t_end;
+  if (set.window.periods > 0) {
+    r.summary_periods = set.window.periods;
+    r.period = set.period;
+  } else {
+    r.summary_time = set.window.time;
+  }
+  r.stats = {res.stats.steps,     res.stats.accepted,  res.stats.rejected, res.stats.f_evals,
+             res.stats.jacobians, res.stats.lu_decompositions, wall};
+  const bool have_end = res.q_end.size() == n && res.qd_end.size() == n;
+  for (int i = 0; i < n; ++i) {
+    r.q_end[coords[i]] = have_end ? res.q_end[i] : q0[i];
+    r.qd_end[coords[i] + "_d"] = have_end ? res.qd_end[i] : qd0[i];
+  }
+  r.constraint_residual_max = std::max(res.residual_pos_max, res.residual_vel_max);
+  r.constraints = set.active;
+  r.parameters = set.parameters;
+  r.output_dt = set.dt;
+  r.initial_correction_position = res.initial_correction_pos;
+  r.initial_correction_velocity = res.initial_correction_vel;
+}
+
+/// "" if atol controls the run's result, else why not (README, "Limits").
+std::string atol_problem(const RunResult& r, const ModelSource& source, double atol) {
+  // The absolute tolerance against the motion's own magnitudes (README, "Limits"): the error
+  // per step of a component y_i is held to atol + rtol |y_i|; where atol is more than a hundredth
+  // of a coordinate's or velocity's largest magnitude over the window, not even two digits of
+  // that component (and of what depends on it: reactions, verdicts) are controlled. Components
+  // a million times smaller than the largest of their kind (rounding-level motion) are left out.
+  constexpr double kAtolFraction = 1e-2, kNegligible = 1e-6;
+  auto scale = [&](const std::string& col) {
+    const ColumnExtremes& e = r.extreme(col);
+    const double v = std::max(std::abs(e.min), std::abs(e.max));
+    return std::isfinite(v) ? v : 0.0;
+  };
+  for (int kind = 0; kind < 2; ++kind) {
+    double largest = 0;
+    for (const auto& q : source.coordinates()) largest = std::max(largest, scale(kind ? q + "_d" : q));
+    for (const auto& q : source.coordinates()) {
+      const std::string col = kind ? q + "_d" : q;
+      const double v = scale(col);
+      if (v > 0 && v >= kNegligible * largest && atol > kAtolFraction * v) {
+        return "solver.atol = " + format_significant(atol, 3) + " is more than 1/100 of " +
+               (kind ? "velocity " : "coordinate ") + col + "'s largest magnitude " +
+               format_significant(v, 3) + " over the summary window, so not even its second "
+               "digit (nor the reactions and verdicts that depend on it) is controlled; set "
+               "solver.atol <= " + format_significant(kAtolFraction * 1e-2 * v, 2);
+      }
+    }
+  }
+  return "";
 }
 
 }  // namespace
@@ -178,8 +260,8 @@ std::vector<std::string> timeseries_columns(const Case& c) {
 
 std::vector<std::string> switched_contacts(const Case& c) {
   std::vector<std::string> out;
-  if (!c.table["contact"]["switching"].value_or(false)) return out;
-  const Setup s = setup_of(c);
+  const Setup& s = c.setup;
+  if (!s.contact.switching) return out;
   for (const auto& con : c.model->constraints())
     if (con.unilateral && std::find(s.active.begin(), s.active.end(), con.name) != s.active.end())
       out.push_back(con.name);
@@ -217,11 +299,11 @@ mech::SimulationOptions simulation_options(const Setup& set) {
   return so;
 }
 
-nlohmann::json run_case(const Case& c, const RunOptions& options) {
-  const Setup set = setup_of(c);
+RunResult run_case(const Case& c, const RunOptions& options) {
+  const Setup& set = c.setup;
   const ModelSource& source = *c.model;
   const int n = static_cast<int>(source.coordinates().size());
-  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  const std::string where = input_location(c.source);
 
   const double rows = std::floor(set.t_end / set.dt) + 2;
   if ((options.out_dir || options.directory) && !(rows <= kMaxOutputRows))
@@ -248,24 +330,13 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
   std::shared_ptr<const mech::Model> model =
       source.instantiate(set.parameters, set.q0, 0.0, c.table, options.variant);
   Eigen::VectorXd q0 = set.q0, qd0 = set.qd0;
-  nlohmann::json start_json;
+  std::optional<InitialState> start;
   if (options.start) {
     q0 = options.start->first;
     qd0 = options.start->second;
   } else if (set.equilibrium_start) {
-    const mech::EquilibriumResult e = case_equilibrium(c, set, *model);
-    q0 = e.q;
+    start = equilibrium_start(c, *model, q0);
     qd0.setZero();
-    start_json["from"] = "equilibrium";
-    nlohmann::json q = nlohmann::json::object();
-    for (int i = 0; i < n; ++i) q[source.coordinates()[i]] = e.q[i];
-    start_json["q"] = q;
-    start_json["force_imbalance"] = e.residual;
-    const auto slow = source.slow_coordinates();
-    nlohmann::json held = nlohmann::json::object();
-    for (std::size_t k = 0; k < slow.size() && k < static_cast<std::size_t>(e.holding_force.size()); ++k)
-      held[slow[k]] = e.holding_force[k];
-    start_json["holding_forces"] = held;
   }
   if (options.wrap_model) model = options.wrap_model(model);
   // The step budget against the run's length, before any integration (README, "Limits").
@@ -345,113 +416,35 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
           : "the simulation failed at t = " + format_significant(res.t, 9) + " s (" +
                 to_string(res.status) + "): " + res.message;
 
-  const auto cols = timeseries_columns(c);
+  RunResult r;
+  r.columns = timeseries_columns(c);
   const std::size_t n_modes = switched_contacts(c).size();
-  const std::vector<std::string> value_cols(cols.begin() + 1, cols.end() - 2 - n_modes);
-  const auto ext = mon.extremes(value_cols);
-
-  nlohmann::json j;
-  j["case"] = c.name;
-  j["model"] = source.name();
-  if (!options.variant.empty()) j["model_variant"] = options.variant;
-  j["kernel"] = to_string(set.kernel);
-  j["form"] = to_string(set.form);
-  j["method"] = to_string(set.method);
-  j["methods_used"] = res.used_explicit && res.used_radau
-                          ? "explicit, then radau from t = " + format_significant(res.switch_time, 9)
-                          : (res.used_explicit ? "explicit" : "radau");
-  j["t_end"] = set.t_end;
-  j["window"] = {w0, w1};
-  j["window_clipped"] = clipped;
-  if (set.window.periods > 0) {
-    j["summary_periods"] = set.window.periods;
-    j["period"] = set.period;
-  } else {
-    j["summary_time"] = set.window.time;
-  }
-  j["stats"] = {{"steps", res.stats.steps},
-                {"accepted", res.stats.accepted},
-                {"rejected", res.stats.rejected},
-                {"f_evals", res.stats.f_evals},
-                {"jacobians", res.stats.jacobians},
-                {"lu_decompositions", res.stats.lu_decompositions},
-                {"wall_seconds", wall}};
-  nlohmann::json qe = nlohmann::json::object(), qde = nlohmann::json::object();
-  const bool have_end = res.q_end.size() == n && res.qd_end.size() == n;
-  for (int i = 0; i < n; ++i) {
-    qe[source.coordinates()[i]] = have_end ? res.q_end[i] : q0[i];
-    qde[source.coordinates()[i] + "_d"] = have_end ? res.qd_end[i] : qd0[i];
-  }
-  j["q_end"] = qe;
-  j["qd_end"] = qde;
-  nlohmann::json ex = nlohmann::json::object();
-  for (const auto& name : value_cols) {
-    const ColumnExtremes& e = ext.at(name);
-    ex[name] = {{"min", null_if_nan(e.min)},
-                {"max", null_if_nan(e.max)},
-                {"amplitude", null_if_nan(0.5 * (e.max - e.min))}};
-  }
-  j["extremes"] = ex;
-  j["constraint_residual_max"] = std::max(res.residual_pos_max, res.residual_vel_max);
-  j["constraints"] = set.active;
-  nlohmann::json par = nlohmann::json::object();
-  for (const auto& [k, v] : set.parameters) par[k] = v;
-  j["parameters"] = par;
-  j["output_dt"] = set.dt;
-  j["initial_correction"] = {{"position", res.initial_correction_pos},
-                             {"velocity", res.initial_correction_vel}};
-  if (!start_json.is_null()) j["initial_state"] = start_json;
-  // The absolute tolerance against the motion's own magnitudes (README, "Limits"): the error
-  // per step of a component y_i is held to atol + rtol |y_i|; where atol is more than a hundredth
-  // of a coordinate's or velocity's largest magnitude over the window, not even two digits of
-  // that component (and of what depends on it: reactions, verdicts) are controlled. Components
-  // a million times smaller than the largest of their kind (rounding-level motion) are left out.
-  std::string unreliable;
-  {
-    constexpr double kAtolFraction = 1e-2, kNegligible = 1e-6;
-    auto scale = [&](const std::string& col) {
-      const ColumnExtremes& e = ext.at(col);
-      const double v = std::max(std::abs(e.min), std::abs(e.max));
-      return std::isfinite(v) ? v : 0.0;
-    };
-    for (int kind = 0; kind < 2 && unreliable.empty(); ++kind) {
-      double largest = 0;
-      for (const auto& q : source.coordinates()) largest = std::max(largest, scale(kind ? q + "_d" : q));
-      for (const auto& q : source.coordinates()) {
-        const std::string col = kind ? q + "_d" : q;
-        const double v = scale(col);
-        if (v > 0 && v >= kNegligible * largest && set.atol > kAtolFraction * v) {
-          unreliable = "solver.atol = " + format_significant(set.atol, 3) + " is more than 1/100 of " +
-                       (kind ? "velocity " : "coordinate ") + col + "'s largest magnitude " +
-                       format_significant(v, 3) + " over the summary window, so not even its "
-                       "second digit (nor the reactions and verdicts that depend on it) is "
-                       "controlled; set solver.atol <= " + format_significant(kAtolFraction * 1e-2 * v, 2);
-          break;
-        }
-      }
-    }
-  }
-  j["accuracy"] = {{"reliable", unreliable.empty()},
-                   {"rtol", set.rtol},
-                   {"atol", set.atol}};
-  if (!unreliable.empty()) j["accuracy"]["reason"] = unreliable;
-  j["complete"] = complete;
-  if (set.contact.switching) j["switching"] = switching_summary(sres, set);
-  if (client_mon) client_mon->finish(res, ext, j);
+  const std::vector<std::string> value_cols(r.columns.begin() + 1, r.columns.end() - 2 - n_modes);
+  r.extremes = mon.extremes(value_cols);
+  describe_run(r, c, options.variant, res, wall, q0, qd0);
+  r.window_start = w0;
+  r.window_end = w1;
+  r.window_clipped = clipped;
+  r.initial_state = std::move(start);
+  const std::string unreliable = atol_problem(r, source, set.atol);
+  r.accuracy = {unreliable.empty(), set.rtol, set.atol, unreliable};
+  r.complete = complete;
+  if (set.contact.switching) r.switching = switching_summary(sres, set);
+  if (client_mon) client_mon->finish(res, r);
   if (client_stop) {
     // The model's client ended the run: what was computed up to then is written, marked as
     // such, and the run fails (exit 3) with the client's reason.
-    j["stopped"] = {{"t", client_mon->stop_time()}, {"reason", client_mon->stop_reason()}};
-    j["t_reached"] = res.t;
+    r.stopped = RunEnd{client_mon->stop_time(), "", client_mon->stop_reason()};
+    r.t_reached = res.t;
   } else if (!complete) {
-    j["failure"] = {{"t", res.t}, {"status", to_string(res.status)}, {"reason", failure}};
-    j["t_reached"] = res.t;
+    r.failure = RunEnd{res.t, to_string(res.status), failure};
+    r.t_reached = res.t;
   }
 
   if (out) {
     writer->finish();
     if (set.contact.switching) out->write("events.csv", events_csv(sres));
-    out->write("summary.json", j.dump(2) + "\n");
+    out->write("summary.json", to_json(r).dump(2) + "\n");
     out->commit();
   } else if (dir) {
     writer->finish();
@@ -461,7 +454,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
                                (out ? "; wrote it to " + options.out_dir->string() +
                                           " with \"accuracy\": {\"reliable\": false}"
                                     : std::string()),
-                           res.t, j);
+                           res.t, std::move(r));
   if (!complete) {
     const std::string kept = out ? "; wrote what was computed up to then to " +
                                        options.out_dir->string() + ", marked \"complete\": false"
@@ -471,7 +464,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
                            client_mon->stop_time());
     throw NumericalError("case '" + c.name + "': " + failure + kept, res.t);
   }
-  return j;
+  return r;
 }
 
 StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>& active,
@@ -555,7 +548,7 @@ StepBound minimal_steps(const mech::Model& model, const std::vector<std::string>
 
 void check_step_budget(const Case& c, const Setup& set, const mech::Model& model, double duration,
                        const std::string& what) {
-  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  const std::string where = input_location(c.source);
   // With switching contacts, every step while a contact flies or slides is at most
   // contact.flight_hmax long: a span of `duration` in flight takes at least duration/flight_hmax
   // steps. Where that is more than the budget, the budget cannot suffice for a run that flies
@@ -588,7 +581,7 @@ void check_step_budget(const Case& c, const Setup& set, const mech::Model& model
 }
 
 mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& set, const mech::Model& model) {
-  const std::string where = c.source.empty() ? std::string("<case>") : c.source.string();
+  const std::string where = input_location(c.source);
   if (!model.has_tangents())
     throw InputError(where + ": key 'initial.from': \"equilibrium\" needs a model with exact "
                      "tangents (a model file; the " + c.model->origin() + " instance has none)");
@@ -611,57 +604,54 @@ mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& set, const 
 namespace {
 
 // The accuracy line of every report: only when the run's tolerance does not control it.
-std::string accuracy_line(const nlohmann::json& s) {
-  if (!s.contains("accuracy") || s["accuracy"].value("reliable", true)) return "";
-  return "  UNRELIABLE: " + s["accuracy"].value("reason", std::string()) + "\n";
+std::string accuracy_line(const RunResult& r) {
+  if (r.accuracy.reliable) return "";
+  return "  UNRELIABLE: " + r.accuracy.reason + "\n";
 }
 
 }  // namespace
 
-std::string human_report(const Case& c, const nlohmann::json& s) {
+std::string human_report(const Case& c, const RunResult& r) {
   if (c.client) {
-    std::string r = c.client->report(c, s);
-    if (!r.empty()) return accuracy_line(s) + r + accuracy_line(s);
+    std::string rep = c.client->report(c, r);
+    if (!rep.empty()) return accuracy_line(r) + rep + accuracy_line(r);
   }
   std::ostringstream os;
-  os << "pcsim run: case '" << s["case"].get<std::string>() << "' (" << c.model->origin() << ", "
-     << s["kernel"].get<std::string>() << " kernel, " << s["form"].get<std::string>()
-     << " form, " << s.value("methods_used", std::string()) << "), "
-     << format_number(s["t_end"].get<double>()) << " s of motion\n";
+  os << "pcsim run: case '" << r.case_name << "' (" << c.model->origin() << ", " << r.kernel
+     << " kernel, " << r.form << " form, " << r.methods_used << "), " << format_number(r.t_end)
+     << " s of motion\n";
   os << "  constraints:";
-  if (s["constraints"].empty()) os << " none";
-  for (const auto& n : s["constraints"]) os << ' ' << n.get<std::string>();
+  if (r.constraints.empty()) os << " none";
+  for (const auto& n : r.constraints) os << ' ' << n;
   os << "\n";
-  const double cp = s["initial_correction"]["position"].get<double>();
-  const double cv = s["initial_correction"]["velocity"].get<double>();
+  const double cp = r.initial_correction_position, cv = r.initial_correction_velocity;
   if (cp > 0 || cv > 0)
     os << "  initial state projected onto the constraints: |dq| = " << format_significant(cp, 3)
        << ", |dq_d| = " << format_significant(cv, 3) << "\n";
   char buf[160];
-  std::snprintf(buf, sizeof buf, "  summary window: t = %.6g .. %.6g s%s\n", s["window"][0].get<double>(),
-                s["window"][1].get<double>(), s["window_clipped"].get<bool>() ? " (clipped to the run)" : "");
+  std::snprintf(buf, sizeof buf, "  summary window: t = %.6g .. %.6g s%s\n", r.window_start,
+                r.window_end, r.window_clipped ? " (clipped to the run)" : "");
   os << buf;
   os << "  over the window:         min           max     amplitude\n";
-  const auto cols = timeseries_columns(c);
-  for (std::size_t k = 1; k + 2 + switched_contacts(c).size() < cols.size(); ++k) {
-    const std::string& name = cols[k];
-    if (!s["extremes"].contains(name)) continue;
-    const auto& e = s["extremes"][name];
-    auto num = [](const nlohmann::json& v) {
-      return v.is_null() ? std::string("n/a") : format_significant(v.get<double>(), 6);
-    };
-    std::snprintf(buf, sizeof buf, "    %-14s %13s %13s %13s\n", name.c_str(), num(e["min"]).c_str(),
-                  num(e["max"]).c_str(), num(e["amplitude"]).c_str());
+  // The value columns: after t, before the residuals and the modes.
+  const std::size_t modes = switched_contacts(c).size();
+  for (std::size_t k = 1; k + 2 + modes < r.columns.size(); ++k) {
+    const std::string& name = r.columns[k];
+    const auto it = r.extremes.find(name);
+    if (it == r.extremes.end()) continue;
+    const ColumnExtremes& e = it->second;
+    auto num = [](double v) { return std::isfinite(v) ? format_significant(v, 6) : std::string("n/a"); };
+    std::snprintf(buf, sizeof buf, "    %-14s %13s %13s %13s\n", name.c_str(), num(e.min).c_str(),
+                  num(e.max).c_str(), num(e.amplitude()).c_str());
     os << buf;
   }
-  os << switching_report(s);
-  const auto& st = s["stats"];
-  os << "  solver: " << st["steps"] << " steps (" << st["accepted"] << " accepted, "
-     << st["rejected"] << " rejected), " << st["f_evals"] << " f-evaluations; "
-     << format_significant(st["wall_seconds"].get<double>(), 3)
-     << " s wall; max constraint residual "
-     << format_significant(s["constraint_residual_max"].get<double>(), 2) << "\n";
-  os << accuracy_line(s);
+  os << switching_report(r.switching);
+  const RunStats& st = r.stats;
+  os << "  solver: " << st.steps << " steps (" << st.accepted << " accepted, " << st.rejected
+     << " rejected), " << st.f_evals << " f-evaluations; " << format_significant(st.wall_seconds, 3)
+     << " s wall; max constraint residual " << format_significant(r.constraint_residual_max, 2)
+     << "\n";
+  os << accuracy_line(r);
   return os.str();
 }
 

@@ -1,6 +1,7 @@
 // Running a case of any model: simulate, the window extremes of every column refined on the
-// dense output, the time series, the summary (the generic keys of model-files.md plus the
-// model client's), the output directory written as a whole, and the engineer's report.
+// dense output, the time series, the typed result (sim/result.hpp: the generic keys of
+// model-files.md plus the model client's additions), the output directory written as a whole
+// (summary.json = to_json(result)), and the engineer's report.
 #pragma once
 
 #include <filesystem>
@@ -20,6 +21,7 @@
 #include "mech/simulation.hpp"
 #include "mech/model.hpp"
 #include "sim/case.hpp"
+#include "sim/result.hpp"
 
 namespace pcsim::sim {
 
@@ -27,11 +29,8 @@ namespace pcsim::sim {
 /// solver.t_end) is refused before any computation, naming output.dt and the row count.
 inline constexpr double kMaxOutputRows = 1e7;
 
+/// How to run a case: where to write, and the internal options of pcsim's own callers.
 struct RunOptions {
-  RunOptions() = default;
-  /// RunOptions{out_dir, variant}, as before the internal fields below existed.
-  RunOptions(std::optional<std::filesystem::path> out, std::string v = "")
-      : out_dir(std::move(out)), variant(std::move(v)) {}
   /// Where to write timeseries.csv and summary.json; nullopt writes nothing (sweeps). The
   /// directory is locked for the run and replaced as a whole at its end (common/files.hpp).
   std::optional<std::filesystem::path> out_dir;
@@ -89,28 +88,28 @@ SummaryWindow summary_window(const Setup& setup);
 mech::EquilibriumResult case_equilibrium(const Case& c, const Setup& setup, const mech::Model& model);
 
 /// A run that completed but whose tolerance does not control its result (summary.json's
-/// "accuracy": {"reliable": false}): a NumericalError (exit 3) that carries the summary, so the
+/// "accuracy": {"reliable": false}): a NumericalError (exit 3) that carries the result, so the
 /// command can still print the report with its UNRELIABLE line before failing.
 class UnreliableResult : public NumericalError {
  public:
-  UnreliableResult(const std::string& what, double t, nlohmann::json summary)
-      : NumericalError(what, t), summary_(std::move(summary)) {}
-  const nlohmann::json& summary() const { return summary_; }
+  UnreliableResult(const std::string& what, double t, RunResult result)
+      : NumericalError(what, t), result_(std::move(result)) {}
+  const RunResult& result() const { return result_; }
 
  private:
-  nlohmann::json summary_;
+  RunResult result_;
 };
 
-/// Runs the case to solver.t_end and returns summary.json's content. Thread-safe: concurrent
+/// Runs the case to solver.t_end and returns its result (summary.json is to_json of it). Thread-safe: concurrent
 /// calls on different cases share nothing. Throws pcsim::InputError for what the case asks that
 /// cannot be done (too many rows, an output directory in use), pcsim::NumericalError (with the
 /// model time and the reason) if the simulation fails, pcsim::sim::UnreliableResult (a
 /// NumericalError with the summary) if it completed with an uncontrolled result, pcsim::IoError if output cannot be
 /// written.
-nlohmann::json run_case(const Case& c, const RunOptions& options = {});
+RunResult run_case(const Case& c, const RunOptions& options = {});
 
 /// The engineer's report printed by `pcsim run` (the client's, or the generic one).
-std::string human_report(const Case& c, const nlohmann::json& summary);
+std::string human_report(const Case& c, const RunResult& result);
 
 /// The time-series column names of a case: t, coordinates, <name>_d, R_<name>, outputs,
 /// residual_pos, residual_vel, and with contact.switching mode_<name> per switched contact.

@@ -90,9 +90,8 @@ std::string events_csv(const mech::SwitchingResult& r) {
   return out;
 }
 
-std::string switching_report(const nlohmann::json& s) {
-  if (!s.contains("switching")) return "";
-  const auto& sw = s["switching"];
+std::string switching_report(const nlohmann::json& sw) {
+  if (sw.is_null()) return "";
   std::ostringstream os;
   const bool periodic = sw.contains("window_periods") && sw["window_periods"].get<double>() > 0;
   const double periods = periodic ? sw["window_periods"].get<double>() : 0.0;

@@ -25,8 +25,8 @@ nlohmann::json switching_summary(const mech::SwitchingResult& r, const Setup& s)
 /// vn_after, vt_before, vt_after, energy_lost (reactions N or impulses N s; m/s; J).
 std::string events_csv(const mech::SwitchingResult& r);
 
-/// The report's lines for a summary with a "switching" object ("" without): what each contact
-/// did over the window, in an engineer's words.
-std::string switching_report(const nlohmann::json& summary);
+/// The report's lines for a run's switching object (RunResult::switching; "" for null): what
+/// each contact did over the window, in an engineer's words.
+std::string switching_report(const nlohmann::json& switching);
 
 }  // namespace pcsim::sim

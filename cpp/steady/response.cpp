@@ -2,36 +2,21 @@
 #include "steady/response.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <mutex>
 #include <set>
-#include <thread>
 
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
+#include "common/parallel.hpp"
 #include "sim/client.hpp"
 #include "sim/vary.hpp"
 
 namespace pcsim::steady {
 
 namespace {
-
-// Runs f(i) for i < count on `jobs` threads; exceptions are caught per item by f itself.
-void parallel_for(std::size_t count, unsigned jobs, const std::function<void(std::size_t)>& f) {
-  const unsigned n = std::max(1u, std::min<unsigned>(jobs ? jobs : std::max(1u, std::thread::hardware_concurrency()),
-                                                      static_cast<unsigned>(std::max<std::size_t>(count, 1))));
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    for (std::size_t i = next++; i < count; i = next++) f(i);
-  };
-  std::vector<std::thread> threads;
-  for (unsigned t = 1; t < n; ++t) threads.emplace_back(work);
-  work();
-  for (auto& t : threads) t.join();
-}
 
 std::string text(double v) { return csv_number(v); }
 
@@ -44,6 +29,7 @@ sim::Case case_at(const sim::Case& c, const std::string& key, double value) {
   toml::table* t = out.table[section].as_table();
   if (!t) throw InputError("--vary " + key + ": no table [" + section + "]");
   t->insert_or_assign(name, value);
+  sim::retype(out);
   return out;
 }
 
@@ -145,10 +131,10 @@ ResponseResult response_case(const sim::Case& c, const ResponseOptions& o) {
   for (const auto& r : react) {
     bool nonzero = false;
     for (const auto& p : res.points)
-      if (p.ok && p.summary.is_object() && p.summary["extremes"].contains(r)) {
-        const auto& e = p.summary["extremes"][r];
-        nonzero = nonzero || (e["min"].is_number() && e["min"].get<double>() != 0.0) ||
-                  (e["max"].is_number() && e["max"].get<double>() != 0.0);
+      if (p.ok && p.summary && p.summary->extremes.count(r)) {
+        const sim::ColumnExtremes& e = p.summary->extremes.at(r);
+        nonzero = nonzero || (std::isfinite(e.min) && e.min != 0.0) ||
+                  (std::isfinite(e.max) && e.max != 0.0);
       }
     if (nonzero) react_kept.push_back(r);
   }
@@ -156,13 +142,13 @@ ResponseResult response_case(const sim::Case& c, const ResponseOptions& o) {
                                                 "fstar_max", "theta_mean"};
   std::vector<std::string> client_present, derived_present;
   for (const auto& p : res.points) {
-    if (!p.ok || !p.summary.is_object()) continue;
+    if (!p.ok || !p.summary) continue;
     for (const auto& k : client_keys)
-      if (p.summary.contains(k) && std::find(client_present.begin(), client_present.end(), k) == client_present.end())
+      if (p.summary->additions.contains(k) && std::find(client_present.begin(), client_present.end(), k) == client_present.end())
         client_present.push_back(k);
     if (c.client) {
       const sim::Case pc = case_at(c, axis.key, p.p);
-      for (const auto& [k, v] : c.client->derived_columns(p.summary, pc))
+      for (const auto& [k, v] : c.client->derived_columns(*p.summary, pc))
         if (std::find(derived_present.begin(), derived_present.end(), k) == derived_present.end())
           derived_present.push_back(k);
     }
@@ -199,24 +185,30 @@ ResponseResult response_case(const sim::Case& c, const ResponseOptions& o) {
     row.push_back(p.fold_before ? text(p.fold_p) : "");
     row.push_back(std::to_string(p.iterations));
     row.push_back(text(p.residual));
-    const nlohmann::json& s = p.summary;
-    auto ex = [&](const std::string& col, const char* what) {
-      if (!s.is_object() || !s["extremes"].contains(col) || !s["extremes"][col][what].is_number()) return std::string();
-      return text(s["extremes"][col][what].get<double>());
+    const sim::RunResult* s = p.summary ? &*p.summary : nullptr;
+    auto ex = [&](const std::string& col, double (*what)(const sim::ColumnExtremes&)) {
+      if (!s || !s->extremes.count(col)) return std::string();
+      const double v = what(s->extremes.at(col));
+      return std::isfinite(v) ? text(v) : std::string();
     };
-    for (const auto& q : coords) row.push_back(ex(q, "amplitude"));
+    auto amplitude = [](const sim::ColumnExtremes& e) { return e.amplitude(); };
+    auto min = [](const sim::ColumnExtremes& e) { return e.min; };
+    auto max = [](const sim::ColumnExtremes& e) { return e.max; };
+    for (const auto& q : coords) row.push_back(ex(q, amplitude));
     for (const auto& r : react_kept) {
-      row.push_back(ex(r, "min"));
-      row.push_back(ex(r, "max"));
+      row.push_back(ex(r, min));
+      row.push_back(ex(r, max));
     }
     for (const auto& q : outputs) {
-      row.push_back(ex(q, "min"));
-      row.push_back(ex(q, "max"));
+      row.push_back(ex(q, min));
+      row.push_back(ex(q, max));
     }
     for (const auto& k : client_present)
-      row.push_back(s.is_object() && s.contains(k) && s[k].is_number() ? text(s[k].get<double>()) : "");
+      row.push_back(s && s->additions.contains(k) && s->additions[k].is_number()
+                        ? text(s->additions[k].get<double>())
+                        : "");
     std::map<std::string, double> derived;
-    if (c.client && s.is_object()) derived = c.client->derived_columns(s, case_at(c, axis.key, p.p));
+    if (c.client && s) derived = c.client->derived_columns(*s, case_at(c, axis.key, p.p));
     for (const auto& k : derived_present) row.push_back(derived.count(k) ? text(derived[k]) : "");
     for (std::size_t k = 0; k < held.size(); ++k)
       row.push_back(k < static_cast<std::size_t>(p.x.H.size()) ? text(p.x.H[k]) : "");

@@ -38,7 +38,7 @@ struct ResponsePoint {
   double residual = 0.0;
   bool fold_before = false;
   double fold_p = 0.0;
-  nlohmann::json summary;  ///< the one-period summary (null without summaries)
+  std::optional<sim::RunResult> summary;  ///< the one-period summary (none without summaries)
 };
 
 struct ResponseResult {

@@ -12,6 +12,7 @@
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "mech/projection.hpp"
 #include "sim/client.hpp"
 #include "sim/run.hpp"
@@ -22,9 +23,7 @@ namespace pcsim::steady {
 
 namespace {
 
-std::string where(const sim::Case& c) {
-  return c.source.empty() ? std::string("<case>") : c.source.string();
-}
+std::string where(const sim::Case& c) { return input_location(c.source); }
 
 nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
@@ -41,7 +40,7 @@ ShootingOptions shooting_options(const sim::Setup& s, OdeMethod method) {
 }
 
 CaseOrbit::CaseOrbit(const sim::Case& c, int periods, std::string key)
-    : case_(c), setup_(sim::setup_of(c)), periods_(periods), key_(std::move(key)),
+    : case_(c), setup_(c.setup), periods_(periods), key_(std::move(key)),
       base_value_(std::numeric_limits<double>::quiet_NaN()) {
   const std::string w = where(c);
   if (periods_ < 1) throw InputError("--periods: expected an integer >= 1, got " + std::to_string(periods_));
@@ -262,7 +261,8 @@ Eigen::VectorXd CaseOrbit::q0_at(double value) const {
   if (kind_ != KeyKind::held_value) return setup_.q0;
   sim::Case c = case_;
   c.table["initial"].as_table()->insert_or_assign(name_, value);
-  return sim::setup_of(c).q0;
+  sim::retype(c);
+  return c.setup.q0;
 }
 
 std::shared_ptr<const mech::Model> CaseOrbit::model_at(double value) const {
@@ -323,7 +323,7 @@ OrbitPoint CaseOrbit::guess() const {
   return x;
 }
 
-nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
+sim::RunResult period_summary(const CaseOrbit& orbit, const OrbitResult& result,
                               OutputDirectory* dir) {
   sim::Case c = orbit.source_case();
   const OrbitProblem p = orbit.problem();
@@ -333,9 +333,9 @@ nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
   toml::table& output = *c.table["output"].as_table();
   output.erase("summary_time");
   // At least 200 time-series rows per orbit period (a case's dt is often set for long runs).
-  const double dt = output["dt"].value_or(1e-3);
-  if (dt > kT / 200) output.insert_or_assign("dt", kT / 200);
+  if (c.setup.dt > kT / 200) output.insert_or_assign("dt", kT / 200);
   output.insert_or_assign("summary_periods", int64_t{p.periods});
+  sim::retype(c);
   const int n = static_cast<int>(result.point.y.size() / 2);
   sim::RunOptions ro;
   ro.start = std::make_pair(Eigen::VectorXd(result.point.y.head(n)), Eigen::VectorXd(result.point.y.tail(n)));
@@ -351,7 +351,7 @@ nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
   return sim::run_case(c, ro);
 }
 
-nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const nlohmann::json& summary) {
+nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const sim::RunResult* summary) {
   const sim::Case& c = orbit.source_case();
   const OrbitProblem p = orbit.problem();
   const auto& coords = c.model->coordinates();
@@ -428,15 +428,15 @@ nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& r, const nl
                    {"methods_used", r.used_explicit && r.used_radau ? "explicit, radau"
                                     : r.used_radau                  ? "radau"
                                                                     : "explicit"}};
-  if (!summary.is_null()) {
+  if (summary) {
     // The periodicity of the summary run (the case's own integrator from the periodic state).
     double gap = 0;
     for (int i = 0; i < n; ++i) {
-      gap = std::max(gap, std::abs(summary["q_end"][coords[i]].get<double>() - r.point.y[i]));
-      gap = std::max(gap, std::abs(summary["qd_end"][coords[i] + "_d"].get<double>() - r.point.y[n + i]));
+      gap = std::max(gap, std::abs(summary->q_end.at(coords[i]) - r.point.y[i]));
+      gap = std::max(gap, std::abs(summary->qd_end.at(coords[i] + "_d") - r.point.y[n + i]));
     }
     j["periodicity_check"] = gap;
-    j["summary"] = summary;
+    j["summary"] = sim::to_json(*summary);
   }
   return j;
 }
@@ -471,7 +471,7 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
     std::string kept;
     if (out) {
       try {
-        nlohmann::json j = orbit_json(orbit, r, nlohmann::json());
+        nlohmann::json j = orbit_json(orbit, r, nullptr);
         j["complete"] = false;
         j["failure"] = {{"reason", r.message}, {"t", r.last.t_failed}};
         j["shooting"]["method"] = to_string(options.method);
@@ -490,14 +490,14 @@ nlohmann::json steady_case(const sim::Case& c, const SteadyOptions& options) {
     }
     throw NumericalError("case '" + c.name + "': " + r.message + kept, r.last.t_failed);
   }
-  nlohmann::json summary;
+  std::optional<sim::RunResult> summary;
   double wall_summary = 0;
   if (options.summary) {
     const auto t1 = std::chrono::steady_clock::now();
     summary = period_summary(orbit, r, out.get());
     wall_summary = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   }
-  nlohmann::json j = orbit_json(orbit, r, summary);
+  nlohmann::json j = orbit_json(orbit, r, summary ? &*summary : nullptr);
   j["complete"] = true;
   j["shooting"]["method"] = to_string(options.method);
   j["shooting"]["rtol"] = so.rtol;
@@ -572,7 +572,9 @@ std::string steady_report(const sim::Case& c, const nlohmann::json& s) {
     pc.table["solver"].as_table()->insert_or_assign("t_end", s["orbit_period"].get<double>());
     pc.table["output"].as_table()->erase("summary_time");
     pc.table["output"].as_table()->insert_or_assign("summary_periods", int64_t{k});
-    std::istringstream rep(sim::human_report(pc, s["summary"]));
+    sim::retype(pc);
+    std::istringstream rep(
+        sim::human_report(pc, sim::result_from_json(s["summary"], sim::timeseries_columns(pc))));
     std::string line;
     while (std::getline(rep, line)) os << "  | " << line << "\n";
   }

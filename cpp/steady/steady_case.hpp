@@ -15,6 +15,7 @@
 #include "common/files.hpp"
 #include "ode/integrate.hpp"
 #include "sim/case.hpp"
+#include "sim/result.hpp"
 #include "steady/shooting.hpp"
 
 namespace pcsim::steady {
@@ -86,13 +87,13 @@ class CaseOrbit {
 
 /// The orbit's summary over one period: the case run from the periodic state for k T with the
 /// holding forces applied (sim::run_case, the window = the whole period), optionally writing
-/// timeseries.csv into `dir`. Returns the run's summary.json content.
-nlohmann::json period_summary(const CaseOrbit& orbit, const OrbitResult& result,
+/// timeseries.csv into `dir`. Returns the run's result.
+sim::RunResult period_summary(const CaseOrbit& orbit, const OrbitResult& result,
                               OutputDirectory* dir = nullptr);
 
 /// The steady.json content of a found orbit (summary: the period summary, or null).
 nlohmann::json orbit_json(const CaseOrbit& orbit, const OrbitResult& result,
-                          const nlohmann::json& summary);
+                          const sim::RunResult* summary);
 
 /// Runs `pcsim steady` on a case: throws pcsim::InputError for what cannot be done and
 /// pcsim::NumericalError (exit 3) when Newton does not converge, with the residual reached.

@@ -2,7 +2,6 @@
 #include "study/sweep.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <condition_variable>
@@ -14,7 +13,6 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
-#include <thread>
 #include <unordered_map>
 #include <utility>
 
@@ -23,6 +21,7 @@
 #include <unistd.h>
 
 #include "common/files.hpp"
+#include "common/parallel.hpp"
 #include "common/version.hpp"
 #include "sim/run.hpp"
 #include "study/progress.hpp"
@@ -354,16 +353,10 @@ SweepReport run_sweep(const sim::Case& base, const sim::Grid& grid, const Runner
        k += static_cast<std::size_t>(size))
     mine.push_back(pending[k]);
 
-  unsigned jobs = options.jobs ? options.jobs : std::max(1u, std::thread::hardware_concurrency());
-  jobs = static_cast<unsigned>(std::min<std::size_t>(jobs, mine.size()));
   RowQueue queue;
-  std::atomic<std::size_t> next{0};
-  std::vector<std::thread> workers;
-  for (unsigned w = 0; w < jobs; ++w)
-    workers.emplace_back([&] {
-      for (std::size_t k = next++; k < mine.size(); k = next++)
-        queue.push(mine[k], csv_line(sweep_row(base, grid, mine[k], runner)));
-    });
+  Workers workers(mine.size(), options.jobs, [&](std::size_t k) {
+    queue.push(mine[k], csv_line(sweep_row(base, grid, mine[k], runner)));
+  });
 
   // This thread writes (rank 0) or forwards (other ranks) every finished row.
   Progress progress(grid.size(), grid.size() - pending.size(), options.progress && rank == 0);
@@ -389,7 +382,7 @@ SweepReport run_sweep(const sim::Case& base, const sim::Grid& grid, const Runner
         ++got;
       }
   }
-  for (auto& t : workers) t.join();
+  workers.join();
   progress.finish();
 
   if (rank == 0) {

@@ -11,14 +11,15 @@
 #include <nlohmann/json.hpp>
 
 #include "sim/case.hpp"
+#include "sim/result.hpp"
 #include "study/cluster.hpp"
 #include "sim/vary.hpp"
 
 namespace pcsim::study {
 
-/// Runs one design point and returns its summary.json content; may throw (the point's row
-/// then records the error). Must be safe to call from several threads at once.
-using Runner = std::function<nlohmann::json(const sim::Case&)>;
+/// Runs one design point and returns its result; may throw (the point's row then records the
+/// error). Must be safe to call from several threads at once.
+using Runner = std::function<sim::RunResult(const sim::Case&)>;
 
 /// sim::run_case writing no files: the runner of the pcsim commands.
 Runner case_runner();

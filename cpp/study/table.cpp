@@ -15,14 +15,6 @@ namespace pcsim::study {
 
 namespace {
 
-/// A JSON pointer for a dotted column name ("amplitude.x" -> "/amplitude/x").
-nlohmann::json::json_pointer pointer(const std::string& dotted) {
-  std::string p = "/" + dotted;
-  for (auto& ch : p)
-    if (ch == '.') ch = '/';
-  return nlohmann::json::json_pointer(p);
-}
-
 std::string scalar_text(const nlohmann::json& v) {
   if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
   if (v.is_number_integer()) return std::to_string(v.get<long long>());
@@ -57,10 +49,10 @@ std::vector<std::string> summary_columns(const sim::Case& c) {
   return cols;
 }
 
-std::vector<std::string> flatten_summary(const nlohmann::json& summary, const sim::Case& c,
+std::vector<std::string> flatten_summary(const sim::RunResult& result, const sim::Case& c,
                                          const std::vector<std::string>& columns) {
   const std::map<std::string, double> derived =
-      c.client ? c.client->derived_columns(summary, c) : std::map<std::string, double>{};
+      c.client ? c.client->derived_columns(result, c) : std::map<std::string, double>{};
   std::vector<std::string> fields;
   fields.reserve(columns.size());
   for (const auto& col : columns) {
@@ -68,8 +60,7 @@ std::vector<std::string> flatten_summary(const nlohmann::json& summary, const si
       fields.push_back(csv_number(d->second));
       continue;
     }
-    const auto p = pointer(col);
-    fields.push_back(summary.contains(p) ? scalar_text(summary.at(p)) : "");
+    fields.push_back(scalar_text(result.value(col)));
   }
   return fields;
 }

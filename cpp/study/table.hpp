@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sim/case.hpp"
+#include "sim/result.hpp"
 
 namespace pcsim::study {
 
@@ -28,10 +29,11 @@ std::vector<std::string> summary_columns(const sim::Case& c);
 inline constexpr const char* kStatusColumn = "status";  ///< "ok" or "error"
 inline constexpr const char* kErrorColumn = "error";    ///< the reason of a failed point
 
-/// The values of `columns` for one summary of case c, as CSV text: numbers as shortest
-/// round-trip decimals, booleans as true/false, null or missing as an empty field; columns the
-/// summary lacks are the client's derived columns (e.g. the sieve's margins).
-std::vector<std::string> flatten_summary(const nlohmann::json& summary, const sim::Case& c,
+/// The values of `columns` for one run of case c, as CSV text: numbers as shortest round-trip
+/// decimals, booleans as true/false, null or missing as an empty field. A column is the dotted
+/// path of a value in the run's summary.json (sweep.csv's contract: "extremes.x.max",
+/// "stats.steps", "q_end.s"), or one of the client's derived columns (e.g. the sieve's margins).
+std::vector<std::string> flatten_summary(const sim::RunResult& result, const sim::Case& c,
                                          const std::vector<std::string>& columns);
 
 /// The numeric columns of a flattened summary by name (booleans as 1/0; empty fields left out).

@@ -28,11 +28,10 @@ FuzzOutcome fuzz_case_input(const std::string& text, std::string* what) {
   try {
     sim::Case c = sim::load_case_text(text, anchor);
     // A short run: at most 2 ms of motion and 20 output rows' worth of work.
-    const double t_end = c.table["solver"]["t_end"].value_or(10.0);
-    if (t_end > 2e-3) sim::set_value(c, {"solver.t_end", "0.002"});
+    if (c.setup.t_end > 2e-3) sim::set_value(c, {"solver.t_end", "0.002"});
     // A sane case needs < 100 steps for 2 ms; an absurd one (a spring attached 1e18 m away)
     // would need billions: it fails with "too many steps" after 2000.
-    if (c.table["solver"]["max_steps"].value_or(int64_t{1000000}) > 2000)
+    if (c.setup.max_steps > 2000)
       sim::set_value(c, {"solver.max_steps", "2000"});
     sim::run_case(c);
     return FuzzOutcome::loaded_and_ran;

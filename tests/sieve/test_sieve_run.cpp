@@ -57,7 +57,7 @@ double rel(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(summary_has_every_contracted_key) {
-  const json s = run_case(short_case());
+  const json s = to_json(run_case(short_case()));
   for (const char* key :
        {"case", "model", "kernel", "form", "t_end", "window", "stats", "amplitude", "theta_mean",
         "R_u_min", "R_u_max", "R_u_min_over_weight", "fstar_max", "contact_kept",
@@ -114,7 +114,7 @@ BOOST_AUTO_TEST_CASE(window_extremes_match_a_brute_force_dense_sampling_to_1e_4)
   TempDir dir;
   RunOptions o;
   o.out_dir = dir.path;
-  const json s = run_case(short_case({{"output.dt", "1e-5"}}), o);
+  const json s = to_json(run_case(short_case({{"output.dt", "1e-5"}}), o));
   const Csv c = read_csv(dir.path / "timeseries.csv");
   const double w0 = s["window"][0].get<double>();
   double ru_min = 1e300, ru_max = -1e300, f_max = 0, x_min = 1e300, x_max = -1e300,
@@ -142,8 +142,8 @@ BOOST_AUTO_TEST_CASE(window_extremes_match_a_brute_force_dense_sampling_to_1e_4)
 // A tighter integration (rtol 1e-11) moves the summary by less than 1e-4 relative: the case
 // tolerance is adequate for the summary's accuracy claim.
 BOOST_AUTO_TEST_CASE(summary_is_converged_in_the_solver_tolerance) {
-  const json a = run_case(short_case());
-  const json b = run_case(short_case({{"solver.rtol", "1e-11"}, {"solver.atol", "1e-13"}}));
+  const json a = to_json(run_case(short_case()));
+  const json b = to_json(run_case(short_case({{"solver.rtol", "1e-11"}, {"solver.atol", "1e-13"}})));
   for (const char* k : {"R_u_min", "R_u_max", "fstar_max"})
     BOOST_TEST(rel(a[k].get<double>(), b[k].get<double>()) < 1e-4, k);
   for (const char* k : {"x", "y", "theta"})
@@ -157,7 +157,7 @@ BOOST_AUTO_TEST_CASE(contact_loss_is_detected_with_its_first_time) {
   TempDir dir;
   RunOptions o;
   o.out_dir = dir.path;
-  const json s = run_case(short_case({{"parameters.e", "0.1"}, {"output.dt", "1e-4"}}), o);
+  const json s = to_json(run_case(short_case({{"parameters.e", "0.1"}, {"output.dt", "1e-4"}}), o));
   BOOST_TEST(s["contact_kept"] == false);
   BOOST_TEST_REQUIRE(s["first_violation"]["contact"].is_number());
   const double tv = s["first_violation"]["contact"].get<double>();
@@ -174,7 +174,7 @@ BOOST_AUTO_TEST_CASE(contact_loss_is_detected_with_its_first_time) {
 
 // The desk with lock_theta keeps θ ≡ 0 (to rounding), and its R_θ carries the moment.
 BOOST_AUTO_TEST_CASE(locked_desk_does_not_rotate) {
-  const json s = run_case(short_case({{"constraints.lock_theta", "true"}}));
+  const json s = to_json(run_case(short_case({{"constraints.lock_theta", "true"}})));
   BOOST_TEST(std::abs(s["amplitude"]["theta"].get<double>()) < 1e-14);
   BOOST_TEST(std::abs(s["theta_mean"].get<double>()) < 1e-14);
   BOOST_TEST(std::abs(s["q_end"]["theta"].get<double>()) < 1e-14);
@@ -185,9 +185,9 @@ BOOST_AUTO_TEST_CASE(locked_desk_does_not_rotate) {
 // and DAE forms are different discretizations of the same equations, so they agree to the
 // integration accuracy (1e-5 relative, for rtol 1e-8).
 BOOST_AUTO_TEST_CASE(kernels_and_forms_agree) {
-  const json f = run_case(short_case({{"solver.kernel", "fortran"}}));
-  const json c = run_case(short_case({{"solver.kernel", "cpp"}}));
-  const json d = run_case(short_case({{"solver.form", "dae"}}));
+  const json f = to_json(run_case(short_case({{"solver.kernel", "fortran"}})));
+  const json c = to_json(run_case(short_case({{"solver.kernel", "cpp"}})));
+  const json d = to_json(run_case(short_case({{"solver.form", "dae"}})));
   for (const char* k : {"R_u_min", "R_u_max", "fstar_max"}) {
     BOOST_TEST(rel(f[k].get<double>(), c[k].get<double>()) < 1e-9, k);
     BOOST_TEST(rel(f[k].get<double>(), d[k].get<double>()) < 1e-5, k);
@@ -206,10 +206,10 @@ BOOST_AUTO_TEST_CASE(cpp_form_runs_match_the_default_model_file_run) {
   cf.variant = "closed_form";
   geo.variant = "geometric";
   an.variant = "analytic";
-  const json a = run_case(short_case());
-  const json c = run_case(short_case(), cf);
-  const json g = run_case(short_case(), geo);
-  const json h = run_case(short_case(), an);
+  const json a = to_json(run_case(short_case()));
+  const json c = to_json(run_case(short_case(), cf));
+  const json g = to_json(run_case(short_case(), geo));
+  const json h = to_json(run_case(short_case(), an));
   BOOST_TEST(a["model_form"] == "model_file");
   BOOST_TEST(c["model_form"] == "closed_form");
   BOOST_TEST(g["model_form"] == "geometric");
@@ -264,10 +264,10 @@ BOOST_AUTO_TEST_CASE(failed_run_keeps_its_files_and_good_run_leaves_no_temporari
 BOOST_AUTO_TEST_CASE(concurrent_runs_match_sequential_runs) {
   const Case a = short_case({{"solver.t_end", "0.1"}});
   const Case b = short_case({{"solver.t_end", "0.1"}, {"parameters.omega", "250"}});
-  const json sa = run_case(a), sb = run_case(b);
+  const json sa = to_json(run_case(a)), sb = to_json(run_case(b));
   json ta, tb;
-  std::thread t1([&] { ta = run_case(a); });
-  std::thread t2([&] { tb = run_case(b); });
+  std::thread t1([&] { ta = to_json(run_case(a)); });
+  std::thread t2([&] { tb = to_json(run_case(b)); });
   t1.join();
   t2.join();
   BOOST_TEST(ta["R_u_min"].get<double>() == sa["R_u_min"].get<double>());

@@ -23,6 +23,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// The options of a run that writes its output into `dir`.
+RunOptions writing_to(const fs::path& dir) {
+  RunOptions o;
+  o.out_dir = dir;
+  return o;
+}
+
 struct TempDir {
   fs::path path;
   TempDir() {
@@ -78,7 +85,7 @@ atol = 1e-10
 BOOST_AUTO_TEST_CASE(registered_model_from_a_case_equals_the_cpp_api) {
   TempDir d;
   const Case c = load_case(d.write("pend.toml", kPendulum));
-  const auto summary = run_case(c);
+  const auto summary = to_json(run_case(c));
   const auto model = mech::create_model("pendulum", {{"L", 2.0}, {"m", 1.5}});
   mech::SimulationOptions o;
   o.method = OdeMethod::automatic;  // the case's default
@@ -102,7 +109,7 @@ BOOST_AUTO_TEST_CASE(registered_model_from_a_case_equals_the_cpp_api) {
 BOOST_AUTO_TEST_CASE(summary_of_any_model_has_the_generic_keys) {
   TempDir d;
   const Case c = load_case(d.write("pend.toml", kPendulum));
-  const auto s = run_case(c, RunOptions{d.path / "out", ""});
+  const auto s = to_json(run_case(c, writing_to(d.path / "out")));
   BOOST_TEST(s["model"] == "pendulum");
   BOOST_TEST(s["window"][0].get<double>() == 0.0);
   BOOST_TEST(s["window"][1].get<double>() == 2.0);
@@ -126,7 +133,7 @@ BOOST_AUTO_TEST_CASE(summary_of_any_model_has_the_generic_keys) {
   BOOST_TEST(header == "t,x,y,x_d,y_d,R_x,R_y,tension,residual_pos,residual_vel");
   // A summary window of the last 0.5 s instead.
   const Case w = load_case(d.path / "pend.toml", {{"output.summary_time", "0.5"}});
-  const auto sw = run_case(w);
+  const auto sw = to_json(run_case(w));
   BOOST_TEST(sw["window"][0].get<double>() == 1.5);
 }
 
@@ -138,9 +145,9 @@ BOOST_AUTO_TEST_CASE(tiny_output_dt_runs_without_a_series_and_is_refused_with_on
   TempDir d;
   const Case c = load_case(d.write("pend.toml", kPendulum),
                            {{"output.dt", "2e-33"}, {"solver.t_end", "0.002"}});
-  const auto s = run_case(c);
+  const auto s = to_json(run_case(c));
   BOOST_TEST(s["complete"].get<bool>());
-  BOOST_CHECK_EXCEPTION(run_case(c, RunOptions{d.path / "out", ""}), InputError, [](const InputError& e) {
+  BOOST_CHECK_EXCEPTION(run_case(c, writing_to(d.path / "out")), InputError, [](const InputError& e) {
     return std::string(e.what()).find("output.dt") != std::string::npos;
   });
   BOOST_TEST(!fs::exists(d.path / "out"));
@@ -152,7 +159,7 @@ BOOST_AUTO_TEST_CASE(constraints_and_keys_follow_the_model) {
   TempDir d;
   const fs::path f = d.write("sc.toml", "model = \"slider_crank\"\n[solver]\nt_end = 0.05\n");
   const Case c = load_case(f);
-  const Setup s = setup_of(c);
+  const Setup& s = c.setup;
   BOOST_TEST((s.active == std::vector<std::string>{"A_x", "A_y", "B_x", "B_y"}));
   std::string msg = error_of([&] { run_case(load_case(f, {{"constraints.B_y_copy", "true"}})); });
   BOOST_TEST(has(msg, "'B_y_copy' is redundant"), msg);
@@ -173,20 +180,20 @@ BOOST_AUTO_TEST_CASE(output_directory_is_replaced_whole_and_locked) {
   TempDir d;
   const Case c = load_case(d.write("pend.toml", kPendulum), {{"solver.t_end", "0.1"}});
   const fs::path out = d.path / "out";
-  run_case(c, RunOptions{out, ""});
+  run_case(c, writing_to(out));
   std::ofstream(out / "stale.png") << "old plot";
-  run_case(c, RunOptions{out, ""});
+  run_case(c, writing_to(out));
   BOOST_TEST(!fs::exists(out / "stale.png"));
   BOOST_TEST(fs::exists(out / "summary.json"));
   {
     OutputDirectory holder(out, "run");  // another pcsim writing there
-    const std::string msg = error_of([&] { run_case(c, RunOptions{out, ""}); });
+    const std::string msg = error_of([&] { run_case(c, writing_to(out)); });
     BOOST_TEST(has(msg, "in use by another pcsim run"), msg);
   }
   const fs::path mine = d.path / "mine";
   fs::create_directories(mine);
   std::ofstream(mine / "thesis.tex") << "precious";
-  const std::string msg = error_of([&] { run_case(c, RunOptions{mine, ""}); });
+  const std::string msg = error_of([&] { run_case(c, writing_to(mine)); });
   BOOST_TEST(has(msg, "not a pcsim output directory"), msg);
   BOOST_TEST(fs::exists(mine / "thesis.tex"));
 }

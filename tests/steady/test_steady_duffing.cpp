@@ -181,8 +181,7 @@ BOOST_AUTO_TEST_CASE(continuation_passes_the_folds_and_orbits_equal_harmonic_bal
       const double e_state = std::max(std::abs(o.point.y[0] - x0), std::abs(o.point.y[1] - xd0) / omega) / scale;
       // The amplitude as pcsim reports it: the one-period summary's half peak-to-peak of x.
       const CaseOrbit at(case_at(c, "parameters.omega", omega), 1);
-      const nlohmann::json s = period_summary(at, o);
-      const double amp = s["extremes"]["x"]["amplitude"].get<double>();
+      const double amp = period_summary(at, o).extreme("x").amplitude();
       const double e_amp = std::abs(amp - hb_amplitude(H)) / scale;
       BOOST_TEST_CONTEXT("omega = " << omega << ", branch through points " << i << "-" << i + 1) {
         BOOST_TEST(e_state < 1e-6);

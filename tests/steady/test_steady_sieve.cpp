@@ -48,7 +48,7 @@ struct WindowDrift {
 };
 
 WindowDrift measure_window(const sim::Case& c) {
-  const sim::Setup set = sim::setup_of(c);
+  const sim::Setup& set = c.setup;
   const auto model = c.model->instantiate(set.parameters, set.q0, 0.0, c.table, "");
   const mech::SimulationOptions so = sim::simulation_options(set);  // as sim::run_case runs it
   WindowDrift d;
@@ -90,7 +90,7 @@ BOOST_AUTO_TEST_CASE(steady_summary_equals_a_long_run_where_nothing_drifts) {
   run.push_back({"solver.t_end", "30"});
   run.push_back({"initial.from", "equilibrium"});
   run.push_back({"solver.method", "explicit"});
-  const nlohmann::json r = sim::run_case(sieve_case("sieve_1995_theta_locked.toml", run));
+  const nlohmann::json r = sim::to_json(sim::run_case(sieve_case("sieve_1995_theta_locked.toml", run)));
   SteadyOptions so;
   const nlohmann::json st = steady_case(sieve_case("sieve_1995_theta_locked.toml", common), so);
   const nlohmann::json& s = st["summary"];
@@ -104,7 +104,7 @@ BOOST_AUTO_TEST_CASE(steady_summary_equals_a_long_run_where_nothing_drifts) {
 
 BOOST_AUTO_TEST_CASE(paper_case_steady_summary_equals_the_10s_run_within_the_drift_allowance) {
   const sim::Case run_case = sieve_case("sieve_1995.toml");
-  const nlohmann::json r = sim::run_case(run_case);
+  const nlohmann::json r = sim::to_json(sim::run_case(run_case));
   const WindowDrift d = measure_window(run_case);
   // The roller held at the window's mean position.
   const sim::Case held = sieve_case("sieve_1995.toml", {{"initial.s0", format_number(d.s_mean)}});
@@ -181,7 +181,7 @@ BOOST_AUTO_TEST_CASE(holding_the_roller_rigidly_would_misreport_its_friction_dem
   const std::string text = "model = \"" + model + "\"\n[initial]\ns = 0.4\nu = 0.15\n"
                            "[constraints.added]\nhold = \"s - 0.4\"\n[solver]\nt_end = 3\n"
                            "[output]\nsummary_periods = 5\n";
-  const nlohmann::json rigid = sim::run_case(sim::load_case_text(text, "rigid.toml"));
+  const nlohmann::json rigid = sim::to_json(sim::run_case(sim::load_case_text(text, "rigid.toml")));
   const nlohmann::json mean = steady_case(sieve_case("sieve_1995.toml"), SteadyOptions{})["summary"];
   // Rigid hold: the contact's own tangential force is R_phi / r (R_s includes the hold).
   const double own = std::max(std::abs(rigid["extremes"]["R_phi"]["min"].get<double>()),

@@ -16,6 +16,7 @@
 #include "common/error.hpp"
 #include "sieve/source.hpp"
 #include "sim/case.hpp"
+#include "sim/result.hpp"
 
 namespace study_test {
 
@@ -49,7 +50,7 @@ inline double num(const pcsim::sim::Case& c, const char* key) {
 /// value-dependent 0-3 ms so that threads finish out of grid order. Counts its calls.
 struct FakeRunner {
   std::shared_ptr<std::atomic<int>> calls = std::make_shared<std::atomic<int>>(0);
-  nlohmann::json operator()(const pcsim::sim::Case& c) const {
+  pcsim::sim::RunResult operator()(const pcsim::sim::Case& c) const {
     ++*calls;
     const double w = num(c, "parameters.omega"), e = num(c, "parameters.e");
     const double s0 = num(c, "initial.s0");
@@ -58,7 +59,8 @@ struct FakeRunner {
         static_cast<int>(std::fmod(std::abs(w * 7.0 + s0 * 1000.0), 3.0) * 1000)));
     if (w > 1000) throw pcsim::NumericalError("step size too small at t = 0.01, \"fake\"", 0.01);
     const double a = e * w * w / 400.0;
-    nlohmann::json j;
+    pcsim::sim::RunResult r;
+    nlohmann::json& j = r.additions;  // the sieve's keys
     j["amplitude"] = {{"x", a * 1e-3}, {"y", a * 2e-3}, {"theta", locked ? 0.0 : 1e-4 * s0}};
     j["theta_mean"] = locked ? 0.0 : 1e-6 * s0;
     j["R_u_min_over_weight"] = 1.0 - a / 9.81 * (1.0 + (locked ? 0.5 : 1.0) * s0 * s0);
@@ -68,13 +70,11 @@ struct FakeRunner {
     j["contact_kept"] = j["R_u_min"].get<double>() > 0;
     j["rolling_kept"] = true;
     j["first_violation"] = {{"contact", nullptr}, {"rolling", nullptr}};
-    j["constraint_residual_max"] = 1e-12;
-    j["q_end"] = {{"x", 0.0}, {"y", 0.0}, {"theta", 0.0}, {"s", s0}, {"u", 0.15}, {"phi", 0.0}};
-    j["window_clipped"] = false;
-    j["stats"] = {{"steps", 100 + static_cast<int>(w)}, {"accepted", 90}, {"rejected", 10},
-                  {"f_evals", 400}, {"jacobians", 5}, {"lu_decompositions", 20},
-                  {"wall_seconds", 1e-3 * static_cast<double>(*calls)}};
-    return j;
+    r.constraint_residual_max = 1e-12;
+    r.q_end = {{"x", 0.0}, {"y", 0.0}, {"theta", 0.0}, {"s", s0}, {"u", 0.15}, {"phi", 0.0}};
+    r.window_clipped = false;
+    r.stats = {100 + static_cast<long>(w), 90, 10, 400, 5, 20, 1e-3 * static_cast<double>(*calls)};
+    return r;
   }
 };
 

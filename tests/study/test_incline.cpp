@@ -94,14 +94,15 @@ BOOST_AUTO_TEST_CASE(undefined_margins_and_differences_are_empty_fields) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const study_test::FakeRunner fake;
   auto runner = [&](const pcsim::sim::Case& c) {
-    nlohmann::json j = fake(c);
+    pcsim::sim::RunResult r = fake(c);
+    nlohmann::json& j = r.additions;
     const bool locked = c.table.at_path("constraints.lock_theta").value_or(false);
     // The sieve's client derives contact_margin = R_u_min_over_weight and
     // rolling_margin = 1 - fstar_max / f.
     j["R_u_min_over_weight"] = inf;             // both runs: the difference is inf - inf
     j["fstar_max"] = locked ? nan : 0.0;        // rolling margin 1 free, undefined locked
     j["amplitude"]["theta"] = locked ? 0.0 : -inf;  // the free run's amplitude column
-    return j;
+    return r;
   };
   const auto r = run_incline_study(base, {Axis{"initial.s0", {"0", "0.1"}}}, runner, o);
   BOOST_REQUIRE_MESSAGE(r.ok, r.error);

@@ -55,8 +55,8 @@ BOOST_AUTO_TEST_CASE(no_switch_happens_on_the_papers_case_and_every_result_is_to
   sim::RunOptions o1, o2;
   o1.out_dir = dir.path / "plain";
   o2.out_dir = dir.path / "switching";
-  const auto a = sim::run_case(plain, o1);
-  const auto b = sim::run_case(sw, o2);
+  const auto a = sim::to_json(sim::run_case(plain, o1));
+  const auto b = sim::to_json(sim::run_case(sw, o2));
   BOOST_REQUIRE(b.contains("switching"));
   BOOST_TEST(b["switching"]["events"].get<long>() == 0);
   BOOST_TEST(b["switching"]["contacts"]["contact"]["run"]["contact_fraction"].get<double>() == 1.0);
@@ -81,7 +81,7 @@ BOOST_AUTO_TEST_CASE(with_e_raised_the_roller_hops_once_per_period_to_the_end) {
   sieve::register_sieve();
   const sim::Case c = sim::load_case(std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995_hopping.toml",
                                      {{"solver.t_end", "1"}});
-  const auto s = sim::run_case(c);
+  const auto s = sim::to_json(sim::run_case(c));
   BOOST_TEST(s["complete"].get<bool>());
   const auto& w = s["switching"]["contacts"]["contact"]["window"];
   BOOST_TEST(w["lift_offs"].get<long>() == 5);  // 5 periods in the window, one hop each

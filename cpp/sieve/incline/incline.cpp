@@ -7,6 +7,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "common/location.hpp"
 #include "common/files.hpp"
 #include "common/gnuplot.hpp"
 #include "study/table.hpp"
@@ -74,7 +75,7 @@ std::string gnuplot_script(const std::string& xkey, const std::string& case_name
 
 void check_incline_case(const sim::Case& base) {
   if (base.model->name() != "sieve" || !base.client)
-    throw InputError((base.source.empty() ? std::string("<case>") : base.source.string()) +
+    throw InputError(input_location(base.source) +
                      ": key 'model': expected the built-in model \"sieve\": the incline study "
                      "compares the sieve's desk with theta free and locked (constraints.lock_theta), "
                      "and the " + base.model->origin() + " has no such variant; use pcsim sweep "
