@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "../tests/explicit/explicit_problems.hpp"
+#include "../tests/ode/explicit_problems.hpp"
 #include "ode/integrate.hpp"
 
 using namespace pcsim;

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "../tests/huang/huang_test_util.hpp"
+#include "../tests/linalg/huang_test_util.hpp"
 #include "linalg/huang.hpp"
 
 using namespace pcsim;

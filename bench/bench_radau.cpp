@@ -1,7 +1,7 @@
 // Benchmark of the Radau IIA integrator: van der Pol and Robertson at rtol = 1e-4, 1e-7, 1e-10,
 // both kernels side by side in one process; counters, median wall times, the C++/Fortran time
 // ratio, and significant correct digits against the reference solutions of
-// tests/radau/problems.hpp. Not a test: run it by hand (see docs/radau-validation.md).
+// tests/ode/problems.hpp. Not a test: run it by hand (see docs/radau-validation.md).
 //
 //   bench_radau [--markdown] [--min-seconds S] [--reference] [--tolerance-table]
 //
@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "../tests/radau/problems.hpp"
+#include "../tests/ode/problems.hpp"
 
 using namespace pcsim;
 using namespace pcsim::testproblems;

@@ -1,5 +1,5 @@
 // Benchmark of Radau IIA on the Test Set's index-3 mechanisms (Andrews' squeezer, the car
-// axis; tests/radau/mechanisms.hpp), Test Set protocol rtol = atol = h0 = 1e-4 .. 1e-10, scd at
+// axis; tests/ode/mechanisms.hpp), Test Set protocol rtol = atol = h0 = 1e-4 .. 1e-10, scd at
 // t_end. Three configurations, timed alternately in this one process (thread CPU time, median):
 //   lapack : the path before the own LU: LAPACK LU + solves, the mass matrix as a full matrix
 //            (DGEMV products), no second-order structure   -- the baseline ("today's path")
@@ -26,7 +26,7 @@
 #include <complex>
 #include <random>
 
-#include "../tests/radau/mechanisms.hpp"
+#include "../tests/ode/mechanisms.hpp"
 #include "ode/radau_lu.hpp"
 
 extern "C" {

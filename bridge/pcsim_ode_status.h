@@ -4,7 +4,7 @@
  * codes as IDID; the bridge passes it through unchanged; the C++ API (cpp/ode/status.hpp,
  * pcsim::OdeStatus) builds its enum, to_string() and meaning() from this X-macro; the Fortran
  * kernels INCLUDE fortran/pcsim_ode_status.fi (PARAMETER ODE_<NAME>); docs/radau.md shows the
- * table. tests/radau/test_ode_status_table.cpp parses the Fortran include and the docs table and
+ * table. tests/ode/test_ode_status_table.cpp parses the Fortran include and the docs table and
  * fails if either differs from this list (name, code, meaning), so edit here first.
  *
  * Codes: 0 success; 1, 2 ordinary returns before t_end (not failures); < 0 illegal argument

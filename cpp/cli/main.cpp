@@ -1,5 +1,5 @@
 // pcsim: the command line. Subcommands, and the applications compiled in, register themselves
-// (see commands.hpp and cmake/app.cmake).
+// (see commands.hpp and cpp/cli/CMakeLists.txt).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>

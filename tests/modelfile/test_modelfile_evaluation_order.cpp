@@ -22,7 +22,7 @@
 
 #include <ginac/ginac.h>
 
-#include "../common/cli_util.hpp"
+#include "../support/cli_util.hpp"
 #include "modelfile/expression_model.hpp"
 #include "modelfile/model_file.hpp"
 #include "modelfile_test_util.hpp"

@@ -1,5 +1,5 @@
 // `pcsim study incline`: theta free vs theta locked over design points (table and figure); a
-// command of the sieve application (compiled into pcsim with it, cmake/app.cmake).
+// command of the sieve application (compiled into pcsim with it, pcsim_application in cmake/pcsim_helpers.cmake).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>

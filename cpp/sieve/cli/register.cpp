@@ -1,4 +1,4 @@
-// The sieve in the pcsim executable (compiled into it when the sieve is built, cmake/app.cmake):
+// The sieve in the pcsim executable (compiled into it when the sieve is built, pcsim_application in cmake/pcsim_helpers.cmake):
 // the built-in model "sieve", its client and the default model of a case without `model` are
 // registered before any command runs.
 #include "cli/commands.hpp"

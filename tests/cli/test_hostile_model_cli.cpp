@@ -1,0 +1,119 @@
+// Hostile model files and added constraints from the shell (issue 19): every one ends with exit
+// 2 and one message naming the file and the key, within seconds (before: SIGSEGV for exp() and a
+// 50,000-character constraint name, stack overflow for 10,000 nested parentheses, 1.6 GB and a
+// GMP abort for 10^(10^10)); a model whose parameters carry GiNaC's names runs (exit 0).
+// PCSIM_EXE (set by pcsim_boost_tests) is the executable.
+#define BOOST_TEST_MODULE sim_hostile_model_cli
+#include <boost/test/unit_test.hpp>
+
+#include "../support/cli_util.hpp"
+
+#include <chrono>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using pcsim_test::exe;
+using pcsim_test::has;
+using pcsim_test::Result;
+using pcsim_test::sh;
+
+namespace {
+
+const char* const kModel = R"TOML([model]
+coordinates = ["x", "y"]
+[model.parameters]
+m = 1.0
+L = 1.0
+I = 2.0
+Pi = 0.5
+Euler = 1.0
+Catalan = 0.0
+D = 0.1
+E = 9.81
+[model.energy]
+kinetic = "0.5*m*(x_d^2 + y_d^2)*I/2"
+potential = "m*E*y*Pi*2*Euler + Catalan*x"
+dissipation = "0.5*D*0*(x_d^2 + y_d^2)"
+[[model.constraint]]
+name = "rod"
+holonomic = "x^2 + y^2 - L^2"
+)TOML";
+
+struct Dir : pcsim_test::TempDir {
+  Dir() : pcsim_test::TempDir("hostile_model") {
+    std::ofstream(path / "m.toml") << kModel;
+    std::ofstream(path / "c.toml") << "model = \"m.toml\"\n[initial]\nx = 1.0\n[solver]\nt_end = 0.05\n";
+  }
+};
+
+// Runs pcsim with the arguments (already quoted for the shell); exit 2, the message names the
+// file and the key and each part, within 10 s.
+void refused(const Dir& d, const std::string& args, const std::string& key,
+             std::initializer_list<std::string> parts) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result r = sh("'" + exe() + "' run c.toml --out out " + args, d.path);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  BOOST_TEST_CONTEXT(args.substr(0, 200) << " -> " << r.out.substr(0, 600)) {
+    BOOST_TEST(r.status == 2);
+    const std::string file = key.rfind("model.", 0) == 0 ? "m.toml" : "c.toml";
+    BOOST_TEST(has(r.out, file + ": key '" + key));
+    for (const auto& p : parts) BOOST_TEST(has(r.out, p), "missing '" << p << "'");
+    BOOST_TEST(r.out.size() < 2000u);
+    BOOST_TEST(s < 10.0);
+    BOOST_TEST(!fs::exists(d.path / "out" / "summary.json"));
+  }
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(the_model_with_ginacs_names_runs) {
+  Dir d;
+  const Result r = sh("'" + exe() + "' run c.toml --out out", d.path);
+  BOOST_TEST(r.status == 0, r.out);
+  BOOST_TEST(fs::exists(d.path / "out" / "summary.json"));
+}
+
+BOOST_AUTO_TEST_CASE(hostile_added_constraints_end_with_exit_2) {
+  Dir d;
+  refused(d, "--constraint 'c=sin()'", "constraints.added.c", {"'sin' takes 1 argument", "got 0"});
+  refused(d, "--constraint 'c=x - exp()'", "constraints.added.c", {"'exp' takes 1 argument"});
+  refused(d, "--constraint 'c=atan2(x)'", "constraints.added.c", {"'atan2' takes 2 arguments"});
+  refused(d, "--constraint 'c=x*10^(10^10)'", "constraints.added.c", {"exponent of at most 1000"});
+  refused(d, "--constraint 'c=(x+2)^(10^9)'", "constraints.added.c", {"exponent of at most 1000"});
+  refused(d, "--constraint 'c=x*2^(2^(2^10))'", "constraints.added.c", {"exponent of at most 1000"});
+  refused(d, "--constraint 'c=x*1e-400'", "constraints.added.c", {"out of the range of double"});
+  refused(d, "--constraint 'c=" + std::string(10000, '(') + "x" + std::string(10000, ')') + "'",
+          "constraints.added.c", {"nested at most 200 levels"});
+  refused(d, "--constraint 'c=" + std::string(10000, '-') + "x'", "constraints.added.c",
+          {"nested at most 200 levels"});
+  for (const std::string bad : {"=x", "x"}) {
+    const Result r = sh("'" + exe() + "' run c.toml --out out --constraint '" + bad + "'", d.path);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(has(r.out, "--constraint '" + bad + "': expected NAME=EXPR"), r.out);
+  }
+  const std::string name(50000, 'c');
+  refused(d, "--constraint '" + name + "=x'", "constraints.added.ccc", {"at most 128 characters"});
+  refused(d, "--set 'constraints.added." + name + "=x'", "constraints.added.ccc", {"at most 128 characters"});
+}
+
+BOOST_AUTO_TEST_CASE(hostile_model_files_end_with_exit_2) {
+  Dir d;
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string s = kModel;
+    s.replace(s.find(from), from.size(), to);
+    std::ofstream(d.path / "m.toml") << s;
+  };
+  with("\"m*E*y*Pi*2*Euler + Catalan*x\"", "\"m*E*y + exp()\"");
+  refused(d, "", "model.energy.potential", {"'exp' takes 1 argument"});
+  with("\"m*E*y*Pi*2*Euler + Catalan*x\"", "\"10^(10^10)*y\"");
+  refused(d, "", "model.energy.potential", {"exponent of at most 1000"});
+  with("\"m*E*y*Pi*2*Euler + Catalan*x\"", "\"" + std::string(10000, '(') + "y" + std::string(10000, ')') + "\"");
+  refused(d, "", "model.energy.potential", {"nested at most 200"});
+  with("\"0.5*m*(x_d^2 + y_d^2)*I/2\"", "\"0.5*x_d^2 + abs(x_d) + 0.5*y_d^2\"");
+  refused(d, "", "model.energy.kinetic", {"quadratic in the velocities", "abs"});
+  std::string coords;
+  for (int i = 0; i < 10000; ++i) coords += (i ? ", \"q" : "\"q") + std::to_string(i) + "\"";
+  with("coordinates = [\"x\", \"y\"]", "coordinates = [\"x\", \"y\", " + coords + "]");
+  refused(d, "", "model.coordinates", {"at most 1000 coordinates"});
+}

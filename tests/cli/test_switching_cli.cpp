@@ -1,0 +1,173 @@
+// The switching simulation from the shell: `pcsim run` with contact.switching writes events.csv
+// and a mode column per unilateral constraint and reports the hops in words; a run that needs an
+// LCP fails with exit 3 and names the library when the plugin cannot be loaded, while a run that
+// needs none does not care; bad combinations are refused with exit 2 before any computation.
+#define BOOST_TEST_MODULE switching_cli
+#include <boost/test/unit_test.hpp>
+
+#include <fstream>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "switching_cli.hpp"
+
+using namespace switching_cli;
+
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(run_writes_events_and_mode_columns_and_reports_the_hops, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
+  TempDir dir("switching_cli");
+  const fs::path out = dir.path / "hop";
+  const Result r = pcsim("run cases/sieve_1995_hopping.toml --set solver.t_end=0.5 --out '" + out.string() + "'");
+  BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
+  BOOST_TEST(r.out.find("once per period") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("events.csv") != std::string::npos);
+  const std::string events = read(out / "events.csv");
+  BOOST_TEST(events.rfind("t,kind,constraint,mode_before,mode_after,normal,tangential,vn_before,vn_after,"
+                          "vt_before,vt_after,energy_lost\n", 0) == 0);
+  BOOST_TEST(events.find(",lift_off,contact,") != std::string::npos);
+  BOOST_TEST(events.find(",impact,contact,") != std::string::npos);
+  std::istringstream ts(read(out / "timeseries.csv"));
+  std::string header, line;
+  std::getline(ts, header);
+  BOOST_TEST(header.size() > 13u);
+  BOOST_TEST(header.substr(header.size() - 13) == ",mode_contact");
+  std::set<std::string> modes;
+  while (std::getline(ts, line)) modes.insert(line.substr(line.rfind(',') + 1));
+  BOOST_TEST(modes.count("flight") == 1u);
+  BOOST_TEST(modes.count("stick") == 1u);
+  for (const auto& m : modes) BOOST_TEST((m == "flight" || m == "stick" || m == "slip"), m);
+  // Without switching the same case has no events.csv and no mode column.
+  const fs::path plain = dir.path / "plain";
+  const Result p = pcsim("run cases/sieve_1995.toml --set solver.t_end=0.2 --out '" + plain.string() + "'");
+  BOOST_REQUIRE_MESSAGE(p.status == 0, p.out);
+  BOOST_TEST(!fs::exists(plain / "events.csv"));
+  BOOST_TEST(read(plain / "timeseries.csv").find("mode_") == std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(a_missing_lcp_library_is_named_only_when_an_lcp_is_needed) {
+  TempDir dir("switching_cli");
+  const std::string env = "PCSIM_LCP_LIBRARY=/nonexistent/pcsim_lcp_siconos.so";
+  const Result r = pcsim("run cases/rocking_block.toml --out '" + (dir.path / "rb").string() + "'", env);
+  BOOST_TEST(r.status == 3, r.out);
+  BOOST_TEST(r.out.find("pcsim_lcp_siconos.so") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("libsiconos-numerics") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("t = 0.19") != std::string::npos, r.out);  // the first impact's time
+  // One contact never needs the LCP: the same environment does not matter.
+  const Result b = pcsim("run cases/bouncing_ball.toml --out '" + (dir.path / "bb").string() + "'", env);
+  BOOST_TEST(b.status == 0, b.out);
+}
+
+// On the sieve's cases: the sieve's (skipped in a build without it).
+BOOST_AUTO_TEST_CASE(impossible_combinations_are_refused_before_computing, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
+  struct Bad {
+    std::string args, key;
+  };
+  const std::vector<Bad> bad = {
+      {"run cases/sieve_1995_hopping.toml --set solver.form=dae", "solver.form"},
+      {"run cases/sieve_1995_hopping.toml --set constraints.contact=false", "contact.switching"},
+      {"run cases/sieve_1995_hopping.toml --set constraints.rolling_as_printed=true", "constraints.rolling_as_printed"},
+      {"run cases/sieve_1995_hopping.toml --set contact.zeno_time=0", "contact.zeno_time"},
+      {"run cases/sieve_1995_hopping.toml --set contact.lcp_solver=pgs", "contact.lcp_solver"},
+      {"run cases/sieve_1995_hopping.toml --set parameters.e_n=1.5", "parameters.e_n"},
+  };
+  TempDir dir("switching_cli");
+  for (const auto& b : bad) {
+    const fs::path out = dir.path / "x";
+    const Result r = pcsim(b.args + " --out '" + out.string() + "'");
+    BOOST_TEST_CONTEXT(b.args) {
+      BOOST_TEST(r.status == 2, r.out);
+      BOOST_TEST(r.out.find("key '" + b.key + "'") != std::string::npos, r.out);
+      BOOST_TEST(!fs::exists(out / "summary.json"));
+    }
+  }
+  // A model without unilateral constraints.
+  const fs::path cf = dir.path / "pendulum.toml";
+  std::ofstream(cf) << "model = \"pendulum\"\n[initial]\nx = 1.0\n[contact]\nswitching = true\n";
+  const Result r = pcsim("run '" + cf.string() + "' --out '" + (dir.path / "p").string() + "'");
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(r.out.find("key 'contact.switching'") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("declares none") != std::string::npos, r.out);
+}
+
+namespace {
+void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+std::string ball_case(const std::string& model, const std::string& initial, double t_end) {
+  return "model = \"" + std::string(PCSIM_SOURCE_DIR) + "/tests/mech/contacts/models/" + model +
+         ".toml\"\n[parameters]\ne_n = 0.8\n[initial]\n" + initial +
+         "\n[contact]\nswitching = true\nzeno_time = 1e-9\n[solver]\nmethod = \"auto\"\nrtol = 1e-10\n"
+         "atol = 1e-10\nt_end = " + std::to_string(t_end) + "\n[output]\ndt = 1e-3\nsummary_time = " +
+         std::to_string(t_end) + "\n";
+}
+}  // namespace
+
+// Issue 19: the report and summary say where a contact went inside its surface, count that in
+// "max constraint residual", and take "in flight" from the flights recorded.
+BOOST_AUTO_TEST_CASE(report_states_penetration_residual_and_flight_time) {
+  TempDir dir("switching_cli");
+  // The issue's ball, 50 m along the floor: rests at t = 4.0637 s after 93 impacts.
+  write_file(dir.path / "far.toml", ball_case("ball_far_along_floor", "x = 50.0\ny = 1.0", 6.0));
+  const Result r = pcsim("run '" + (dir.path / "far.toml").string() + "' --out '" + (dir.path / "far").string() + "'");
+  BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
+  BOOST_TEST(r.out.find("93 impacts") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("in flight 67.7 % of the time") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("deepest penetration") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("WARNING") == std::string::npos, r.out);
+  const auto s = nlohmann::json::parse(read(dir.path / "far" / "summary.json"));
+  const auto& floor = s["switching"]["contacts"]["floor"];
+  BOOST_TEST(floor["run"]["penetration_max"].get<double>() < 1e-12);
+  BOOST_TEST(floor["inside_at_end"].get<bool>() == false);
+  BOOST_TEST(s["constraint_residual_max"].get<double>() >= floor["run"]["penetration_max"].get<double>());
+  // In flight: the recorded flights, and the time-series rows whose mode is flight, agree.
+  const double ff = floor["window"]["flight_fraction"].get<double>();
+  BOOST_TEST(std::abs(ff + floor["window"]["contact_fraction"].get<double>() - 1.0) < 1e-9);
+  std::istringstream ts(read(dir.path / "far" / "timeseries.csv"));
+  std::string line;
+  std::getline(ts, line);
+  long rows = 0, flying = 0;
+  while (std::getline(ts, line)) {
+    ++rows;
+    flying += line.substr(line.rfind(',') + 1) == "flight";
+  }
+  BOOST_TEST(std::abs(static_cast<double>(flying) / rows - ff) < 2.0 / rows, flying << " of " << rows << " rows, " << ff);
+
+  // A ball that starts 0.5 m inside the floor and is still inside at the end: said plainly.
+  write_file(dir.path / "inside.toml", ball_case("ball_far_along_floor", "x = 0.0\ny = -0.5\ny_d = 0.1", 0.01));
+  const Result in = pcsim("run '" + (dir.path / "inside.toml").string() + "' --out '" + (dir.path / "inside").string() + "'");
+  BOOST_REQUIRE_MESSAGE(in.status == 0, in.out);
+  BOOST_TEST(in.out.find("deepest penetration 0.5 m (t = 0 s)") != std::string::npos, in.out);
+  BOOST_TEST(in.out.find("WARNING: ends 0.499") != std::string::npos, in.out);
+  BOOST_TEST(in.out.find("max constraint residual 0.5") != std::string::npos, in.out);
+  const auto si = nlohmann::json::parse(read(dir.path / "inside" / "summary.json"));
+  BOOST_TEST(si["switching"]["contacts"]["floor"]["inside_at_end"].get<bool>());
+  BOOST_TEST(si["switching"]["penetration_max"].get<double>() == 0.5);
+
+  // The rocking block with e_n = 1 and friction: the impacts where Newton's law would have
+  // created energy are counted and named.
+  const Result rb = pcsim("run cases/rocking_block.toml --set parameters.e_n=1 --set solver.t_end=5 --out '" +
+                          (dir.path / "rb").string() + "'");
+  BOOST_REQUIRE_MESSAGE(rb.status == 0, rb.out);
+  BOOST_TEST(rb.out.find("impacts where Newton's restitution would have created kinetic energy") != std::string::npos, rb.out);
+  const auto sr = nlohmann::json::parse(read(dir.path / "rb" / "summary.json"));
+  BOOST_TEST(sr["switching"]["energy_limited_impacts"].get<long>() > 0);
+  BOOST_TEST(sr["switching"]["energy_dissipated"]["impacts"].get<double>() >= 0.0);
+}
+
+// Counts in messages are in the right number (issue 19: "more than 1 steps"): the event budget
+// of 1 is "1 event", a budget of 2 "2 events".
+BOOST_AUTO_TEST_CASE(event_budget_message_counts_in_the_right_number) {
+  const TempDir dir("sw_cli_counted");
+  const Result one = pcsim("run cases/bouncing_ball.toml --set contact.max_events=1 --out '" +
+                           (dir.path / "one").string() + "'");
+  BOOST_TEST(one.status == 3);
+  BOOST_TEST_INFO(one.out);
+  BOOST_TEST(one.out.find("2 events, more than contact.max_events = 1 event;") != std::string::npos);
+  BOOST_TEST(one.out.find("1 events") == std::string::npos);
+  const Result two = pcsim("run cases/bouncing_ball.toml --set contact.max_events=2 --out '" +
+                           (dir.path / "two").string() + "'");
+  BOOST_TEST(two.status == 3);
+  BOOST_TEST_INFO(two.out);
+  BOOST_TEST(two.out.find("3 events, more than contact.max_events = 2 events;") != std::string::npos);
+}
