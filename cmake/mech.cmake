@@ -5,7 +5,7 @@ if(NOT TARGET pcsim_huang OR NOT TARGET pcsim_radau)
   return()
 endif()
 pcsim_component(NAME mech
-  CXX   cpp/mech/*.cpp cpp/mech/models/*.cpp
+  CXX   cpp/mech/*.cpp cpp/mech/contacts/*.cpp cpp/mech/models/*.cpp
   LINKS pcsim_huang pcsim_radau pcsim_lcp)
 pcsim_boost_tests(DIR tests/mech LINKS pcsim_mech)
 pcsim_benchmarks(PREFIX bench_mech LINKS pcsim_mech)

@@ -1,6 +1,6 @@
 # The switching simulation's validation (issue 12): contact problems with exact solutions,
 # energy balances, the two reaction formulations, the LCP path and the sieve after losing
-# contact. The engine itself is part of mech (cpp/mech/switching.*), the LCP plugin of lcp.
+# contact. The engine itself is part of mech (cpp/mech/contacts/), the LCP plugin of lcp.
 if(NOT TARGET pcsim_sieve)
   return()
 endif()

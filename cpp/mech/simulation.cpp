@@ -15,6 +15,15 @@ namespace pcsim::mech {
 
 const Sample& StepView::sample(double s) const { return impl_at_(impl_, s); }
 
+ReactionMethod reaction_method_of(const SimulationOptions& options) {
+  return options.linear_algebra == RadauOptions::LinearAlgebra::lapack ? ReactionMethod::compatibility
+                                                                       : options.reaction_method;
+}
+
+bool project_every_step(const SimulationOptions& options) {
+  return options.linear_algebra == RadauOptions::LinearAlgebra::lapack;
+}
+
 namespace {
 
 class Run {
@@ -28,10 +37,8 @@ class Run {
         sample_dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
         n_(model.n()),
         s_(set_.size()),
-        method_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack
-                    ? ReactionMethod::compatibility
-                    : opt.reaction_method),
-        legacy_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack),
+        method_(reaction_method_of(opt)),
+        legacy_(project_every_step(opt)),
         q_(n_),
         qd_(n_),
         a_(n_),

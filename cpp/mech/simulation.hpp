@@ -39,6 +39,13 @@ struct SimulationOptions {
   double projection_tol = 1e-13;    ///< Newton tolerance of the position projection (relative)
 };
 
+/// The reaction method a run takes: options.reaction_method, or the dense compatibility solve
+/// on the pre-issue-14 path (linear_algebra = lapack).
+ReactionMethod reaction_method_of(const SimulationOptions& options);
+/// True on the pre-issue-14 path (linear_algebra = lapack): the drift projection runs after
+/// every step, not only when a constraint is violated beyond its tolerance.
+bool project_every_step(const SimulationOptions& options);
+
 /// The state of the system at one time, with reactions and derived quantities consistent with it.
 struct Sample {
   double t = 0.0;

@@ -19,7 +19,7 @@
 #include "common/format.hpp"
 #include "mech/projection.hpp"
 #include "mech/simulation.hpp"
-#include "mech/switching.hpp"
+#include "mech/contacts/switching.hpp"
 #include "sim/switching_summary.hpp"
 #include "sim/client.hpp"
 #include "sim/extremes.hpp"
