@@ -29,19 +29,6 @@ using contacts::Solved;
 
 namespace {
 
-void add_stats(SwitchingResult& res, const OdeResult& rr) {
-  res.stats.f_evals += rr.f_evals;
-  res.stats.steps += rr.steps;
-  res.stats.accepted += rr.accepted;
-  res.stats.rejected += rr.rejected;
-  res.stats.jacobians += rr.radau_stats.jacobians;
-  res.stats.lu_decompositions += rr.radau_stats.lu_decompositions;
-  res.stats.linear_solves += rr.radau_stats.linear_solves;
-  res.used_explicit = res.used_explicit || rr.used_explicit;
-  res.used_radau = res.used_radau || rr.used_radau;
-  if (std::isnan(res.switch_time) && !std::isnan(rr.switch_time)) res.switch_time = rr.switch_time;
-}
-
 void count_event(SwitchingResult& res, const ContactEvent& ev, double w0) {
   ContactStats& st = res.contacts[ev.contact];
   for (ContactStats::Totals* tot : {&st.run, &st.window}) {
@@ -179,15 +166,10 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
     OdeProblem problem;
     problem.n = 2 * n;
     problem.rhs = [&run](double tt, const double* yy, double* f) { return run.rhs(tt, yy, f); };
-    if (options.linear_algebra != RadauOptions::LinearAlgebra::lapack) {
-      problem.second_order_count = n;
-      problem.second_order_stride = n;
-    }
-    OdeOptions oo;
-    oo.kernel = options.kernel;
-    oo.rtol = options.rtol;
-    oo.atol = options.atol;
-    oo.h0 = h_next;
+    Span span;
+    span.second_order = n;
+    span.second_order_stride = n;
+    span.h0 = h_next;
     // A contact that has just left the surface starts its gap function at zero, which the
     // kernels judge by its sign after the first step: that step must end inside the flight, or
     // a flight shorter than one step (the free parabola is integrated exactly, so steps grow
@@ -195,24 +177,21 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
     // 2 v_n / |a_n| with the acceleration of the new set.
     {
       const double tau = run.shortest_flight(t, q, qd);
-      if (std::isfinite(tau)) oo.h0 = (oo.h0 > 0.0 ? std::min(oo.h0, 0.25 * tau) : 0.25 * tau);
+      if (std::isfinite(tau)) span.h0 = (span.h0 > 0.0 ? std::min(span.h0, 0.25 * tau) : 0.25 * tau);
     }
-    oo.hmax = options.hmax;
+    span.hmax = options.hmax;
     bool open_or_sliding = false;
     for (ContactMode m : cfg.modes) open_or_sliding = open_or_sliding || m == ContactMode::flight || m == ContactMode::slip;
     if (open_or_sliding && switching.flight_hmax > 0.0)
-      oo.hmax = oo.hmax > 0.0 ? std::min(oo.hmax, switching.flight_hmax) : switching.flight_hmax;
-    oo.max_steps = std::max(1L, options.max_steps - res.stats.steps);
-    oo.radau.linear_algebra = options.linear_algebra;
-    oo.events.count = static_cast<int>(run.event_functions().size());
-    oo.events.direction.assign(run.event_functions().size(), -1);
-    oo.events.g = [&run](double tt, const double* yy, double* g) { return run.events(tt, yy, g); };
+      span.hmax = span.hmax > 0.0 ? std::min(span.hmax, switching.flight_hmax) : switching.flight_hmax;
+    span.max_steps = std::max(1L, options.max_steps - res.stats.steps);
+    span.events.count = static_cast<int>(run.event_functions().size());
+    span.events.direction.assign(run.event_functions().size(), -1);
+    span.events.g = [&run](double tt, const double* yy, double* g) { return run.events(tt, yy, g); };
     y.head(n) = q;
     y.tail(n) = qd;
-    const OdeResult rr = ode_integrate(problem, t, y, options.t_end, oo, options.method,
-                                       [&run](StepInfo& s) { return run.on_step(s); });
-    add_stats(res, rr);
-    res.integrator_status = rr.status;
+    const OdeResult rr = integrate_span(problem, t, y, options, span,
+                                        [&run](StepInfo& s) { return run.on_step(s); }, res);
     if (rr.h_last > 0.0) h_next = std::abs(rr.h_last);
     const SegmentOutcome& out = run.outcome();
     if (out.projection_issue != ModelIssue::none) {
