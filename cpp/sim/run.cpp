@@ -338,7 +338,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
       complete || client_stop
           ? std::string()
           : "the simulation failed at t = " + format_significant(res.t, 9) + " s (" +
-                to_string(res.status) + "): " + res.message;
+                mech::message(res.status) + "): " + res.message;
 
   const auto cols = timeseries_columns(c);
   const std::size_t n_modes = switched_contacts(c).size();
@@ -439,7 +439,7 @@ nlohmann::json run_case(const Case& c, const RunOptions& options) {
     j["stopped"] = {{"t", client_mon->stop_time()}, {"reason", client_mon->stop_reason()}};
     j["t_reached"] = res.t;
   } else if (!complete) {
-    j["failure"] = {{"t", res.t}, {"status", to_string(res.status)}, {"reason", failure}};
+    j["failure"] = {{"t", res.t}, {"status", mech::message(res.status)}, {"reason", failure}};
     j["t_reached"] = res.t;
   }
 
