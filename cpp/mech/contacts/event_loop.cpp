@@ -49,6 +49,82 @@ void count_event(SwitchingResult& res, const ContactEvent& ev, double w0) {
     if (ev.mode_after == ContactMode::flight && ev.mode_before == ContactMode::flight) ++tot->flights;  // a rebound
   }
 }
+/// Why a run is refused before it starts (refused = false: it is not).
+struct Refusal {
+  bool refused = false;
+  SimulationStatus status = SimulationStatus::invalid_model;
+  ModelIssue issue = ModelIssue::none;
+  std::string message;
+};
+Refusal refusal(SimulationStatus status, ModelIssue issue, std::string message) {
+  return Refusal{true, status, issue, std::move(message)};
+}
+
+/// The initial modes of a run at (q, qd) (projected onto the bilateral constraints first, then
+/// onto the set the modes impose) into cfg, with the impacts at t0 into res.
+Refusal initial_modes(const ContactSet& cs, ModeLogic& logic, const SimulationOptions& options,
+                      double w0, Eigen::VectorXd& q, Eigen::VectorXd& qd, Config& cfg,
+                      SwitchingResult& res) {
+  const Eigen::VectorXd q0 = q, qd0 = qd;
+  cfg.modes.assign(cs.nc(), ContactMode::flight);
+  cfg.sigma.assign(cs.nc(), 0);
+  // Bilateral constraints first (the contacts are decided on a consistent state).
+  std::vector<int> bil;
+  for (int i : cs.active())
+    if (!cs.model().constraints()[i].contact.unilateral && !cs.model().constraints()[i].contact.is_friction())
+      bil.push_back(i);
+  ProjectionWork pw;
+  std::string msg;
+  double dq = 0, dv = 0;
+  if (!bil.empty() && project_state(cs.model(), bil, options.t0, q, qd, options.kernel,
+                                    options.projection_tol, dq, dv, msg, pw) != ModelIssue::none)
+    return refusal(SimulationStatus::inconsistent_start, ModelIssue::inconsistent_constraints,
+                   "consistent initial values: " + msg);
+  // Contacts declared active start closed when they touch (within the tolerance): project them.
+  Config start = cfg;
+  std::vector<ContactEvent> none;
+  Config decided;
+  if (!logic.transition(options.t0, q, qd, start, nullptr, decided, none, true))
+    return refusal(SimulationStatus::inconsistent_start, ModelIssue::inconsistent_constraints,
+                   "the initial contact modes: " + logic.message());
+  for (const ContactEvent& ev : none) {
+    res.events.push_back(ev);
+    count_event(res, ev, w0);
+  }
+  cfg = decided;
+  res.initial_modes = cfg.modes;
+  std::vector<std::string> imposed;
+  for (int i : cs.layout(cfg).imposed) imposed.push_back(cs.model().constraints()[i].name);
+  const CheckResult ci = check_model(cs.model(), imposed, options.t0, q, qd, options.kernel);
+  if (ci.issue != ModelIssue::none)
+    return refusal(SimulationStatus::invalid_model, ci.issue, "with the initial contact modes: " + ci.message);
+  res.initial_correction_pos = (q - q0).norm();
+  res.initial_correction_vel = (qd - qd0).norm();
+  return {};
+}
+
+/// The run's totals once it ended at (res.t, q).
+void finish(const ContactSet& cs, const ModeLogic& logic, double w0, const Eigen::VectorXd& q,
+            SwitchingResult& res) {
+  res.lcp_solves = logic.lcp_counters().solves;
+  res.energy_limited_impacts = logic.impact_counters().energy_limited;
+  res.energy_prevented_max = logic.impact_counters().energy_prevented_max;
+  for (ContactStats& st : res.contacts)
+    if (!st.flights.empty() && st.flights.back().end > res.t) st.flights.back().end = res.t;
+  // The time in flight from the flights recorded (their starts and ends are the events), kept
+  // apart from closed_time (summed over the steps with the segment's modes): the report's "in
+  // flight" is this one, and the two must agree (test_switching_contacts_far_from_origin).
+  for (int c = 0; c < cs.nc(); ++c) {
+    ContactStats& st = res.contacts[c];
+    for (const ContactStats::Flight& f : st.flights) {
+      st.run.flight_time += std::max(0.0, f.end - f.start);
+      st.window.flight_time += std::max(0.0, f.end - std::max(f.start, w0));
+    }
+    st.gap_end = cs.gap(c, res.t, q);
+    st.gap_tol_end = cs.gap_tol(c, res.t, q);
+  }
+}
+
 }  // namespace
 
 SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0,
@@ -103,42 +179,8 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
   // at t0), the others in flight; then the state projected onto the resulting set.
   Eigen::VectorXd q = q0, qd = qd0;
   Config cfg;
-  cfg.modes.assign(cs.nc(), ContactMode::flight);
-  cfg.sigma.assign(cs.nc(), 0);
-  {
-    // Bilateral constraints first (the contacts are decided on a consistent state).
-    std::vector<int> bil;
-    for (int i : check.active)
-      if (!model.constraints()[i].contact.unilateral && !model.constraints()[i].contact.is_friction())
-        bil.push_back(i);
-    ProjectionWork pw;
-    std::string msg;
-    double dq = 0, dv = 0;
-    if (!bil.empty() && project_state(model, bil, options.t0, q, qd, options.kernel,
-                                      options.projection_tol, dq, dv, msg, pw) != ModelIssue::none)
-      return refuse(SimulationStatus::inconsistent_start, ModelIssue::inconsistent_constraints,
-                    "consistent initial values: " + msg);
-    // Contacts declared active start closed when they touch (within the tolerance): project them.
-    Config start = cfg;
-    std::vector<ContactEvent> none;
-    Config decided;
-    if (!logic.transition(options.t0, q, qd, start, nullptr, decided, none, true))
-      return refuse(SimulationStatus::inconsistent_start, ModelIssue::inconsistent_constraints,
-                    "the initial contact modes: " + logic.message());
-    for (const ContactEvent& ev : none) {
-      res.events.push_back(ev);
-      count_event(res, ev, w0);
-    }
-    cfg = decided;
-    res.initial_modes = cfg.modes;
-    std::vector<std::string> imposed;
-    for (int i : cs.layout(cfg).imposed) imposed.push_back(model.constraints()[i].name);
-    const CheckResult ci = check_model(model, imposed, options.t0, q, qd, options.kernel);
-    if (ci.issue != ModelIssue::none)
-      return refuse(SimulationStatus::invalid_model, ci.issue, "with the initial contact modes: " + ci.message);
-    res.initial_correction_pos = (q - q0).norm();
-    res.initial_correction_vel = (qd - qd0).norm();
-  }
+  if (const Refusal r = initial_modes(cs, logic, options, w0, q, qd, cfg, res); r.refused)
+    return refuse(r.status, r.issue, r.message);
 
   Segment run(cs, logic, options, switching, res, observer);
   run.configure(cfg, options.t0, q, qd);
@@ -292,23 +334,7 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
   }
   res.q_end = q;
   res.qd_end = qd;
-  res.lcp_solves = logic.lcp_counters().solves;
-  res.energy_limited_impacts = logic.impact_counters().energy_limited;
-  res.energy_prevented_max = logic.impact_counters().energy_prevented_max;
-  for (ContactStats& st : res.contacts)
-    if (!st.flights.empty() && st.flights.back().end > res.t) st.flights.back().end = res.t;
-  // The time in flight from the flights recorded (their starts and ends are the events), kept
-  // apart from closed_time (summed over the steps with the segment's modes): the report's "in
-  // flight" is this one, and the two must agree (test_switching_contacts_far_from_origin).
-  for (int c = 0; c < cs.nc(); ++c) {
-    ContactStats& st = res.contacts[c];
-    for (const ContactStats::Flight& f : st.flights) {
-      st.run.flight_time += std::max(0.0, f.end - f.start);
-      st.window.flight_time += std::max(0.0, f.end - std::max(f.start, w0));
-    }
-    st.gap_end = cs.gap(c, res.t, q);
-    st.gap_tol_end = cs.gap_tol(c, res.t, q);
-  }
+  finish(cs, logic, w0, q, res);
   run.track_penetration(res.t, q);
   return res;
 }

@@ -93,10 +93,10 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
     const double dT0 = energy_change(Lam0, &round0);
     if (dT0 > round0 || !leaves_none_approaching(Lam0)) {
       message = "the impact at t = " + num(t) + " (contacts " + names(cs_, p) + ") has no consistent " +
-                 "solution: the impulses found " +
-                 (dT0 > round0 ? "would create kinetic energy even without restitution (" + num(dT0) + " J)"
-                               : std::string("leave a contact approaching")) +
-                 " (several contacts that pose dependent conditions, with friction?)";
+                "solution: the impulses found " +
+                (dT0 > round0 ? "would create kinetic energy even without restitution (" + num(dT0) + " J)"
+                              : std::string("leave a contact approaching")) +
+                " (several contacts that pose dependent conditions, with friction?)";
       return false;
     }
     if (newton_solves) {
@@ -167,7 +167,7 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
     // The least-energy closure: ΔT = −½ v⁻·W⁺v⁻ <= 0 by construction; checked all the same.
     if (dT > round) {
       message = "the accumulation closure at t = " + num(t) + " (contacts " + names(cs_, p) +
-                 ") would create kinetic energy (" + num(dT) + " J)";
+                ") would create kinetic energy (" + num(dT) + " J)";
       return false;
     }
   }
