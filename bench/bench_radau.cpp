@@ -55,7 +55,7 @@ Timing time_one(const ReferenceProblem& rp, const RadauOptions& o) {
   const RadauResult r = radau_integrate(rp.problem, rp.t0, rp.y0, rp.t_end, o);
   const auto t1 = std::chrono::steady_clock::now();
   const double c1 = thread_cpu_seconds();
-  if (r.status != RadauStatus::success) return {-1.0, -1.0};
+  if (r.status != OdeStatus::success) return {-1.0, -1.0};
   return {std::chrono::duration<double>(t1 - t0).count(), c1 - c0};
 }
 
@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
       const ReferenceProblem& rp = s.rp;
       const RadauResult rf = radau_integrate(rp.problem, rp.t0, rp.y0, rp.t_end, of);
       const RadauResult rc = radau_integrate(rp.problem, rp.t0, rp.y0, rp.t_end, oc);
-      if (rf.status != RadauStatus::success || rc.status != RadauStatus::success) {
+      if (rf.status != OdeStatus::success || rc.status != OdeStatus::success) {
         std::printf("%-20s rtol=%g: FAILED fortran=%s (%s) cpp=%s (%s)\n", rp.name.c_str(), rtol,
                     to_string(rf.status), rf.message.c_str(), to_string(rc.status),
                     rc.message.c_str());

@@ -5,17 +5,11 @@
 
 #include <filesystem>
 #include <memory>
-#include <stdexcept>
 #include <string>
 
-namespace pcsim {
+#include "common/error.hpp"
 
-/// An output file or directory could not be written; the message names the path and the
-/// system's reason (errno text). The CLI exits with status 1.
-class IoError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace pcsim {
 
 /// "<what> <path>: <strerror(errno)>".
 std::string errno_message(const std::string& what, const std::filesystem::path& path);

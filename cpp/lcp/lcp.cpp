@@ -18,13 +18,22 @@ namespace pcsim::lcp {
 
 const char* to_string(LcpStatus status) {
   switch (status) {
-    case LcpStatus::solved: return "solved";
-    case LcpStatus::no_solution: return "no_solution";
-    case LcpStatus::library_unavailable: return "library_unavailable";
-    case LcpStatus::bad_input: return "bad_input";
-    case LcpStatus::failed: return "failed";
+#define PCSIM_LCP_NAME(name, text) \
+  case LcpStatus::name: return #name;
+    PCSIM_LCP_STATUS_TABLE(PCSIM_LCP_NAME)
+#undef PCSIM_LCP_NAME
   }
   return "unknown";
+}
+
+const char* message(LcpStatus status) {
+  switch (status) {
+#define PCSIM_LCP_MESSAGE(name, text) \
+  case LcpStatus::name: return text;
+    PCSIM_LCP_STATUS_TABLE(PCSIM_LCP_MESSAGE)
+#undef PCSIM_LCP_MESSAGE
+  }
+  return "unknown status";
 }
 
 const char* lcp_library_name() { return "pcsim_lcp_siconos.so"; }

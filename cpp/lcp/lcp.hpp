@@ -18,14 +18,29 @@ enum class LcpSolver {
   enumerative,  ///< enumeration of complementary bases (Siconos SICONOS_LCP_ENUM)
 };
 
+/// How an LCP solve ended: the one table (name, message) the enum, to_string() and message()
+/// are expanded from.
+#define PCSIM_LCP_STATUS_TABLE(X)                                                             \
+  /* z, w solve the LCP to the tolerance */                                                   \
+  X(solved, "solved")                                                                         \
+  /* the solver ended without a solution (message: the solver's code) */                      \
+  X(no_solution, "no solution found")                                                         \
+  /* the plugin or Siconos could not be loaded (message names them) */                        \
+  X(library_unavailable, "the LCP library is not available")                                  \
+  /* M not square, sizes differ, n = 0, non-finite entries */                                 \
+  X(bad_input, "bad input")                                                                   \
+  /* Siconos raised a fatal error (message) */                                                \
+  X(failed, "the LCP solver failed")
+
 enum class LcpStatus {
-  solved,               ///< z, w solve the LCP to the tolerance
-  no_solution,          ///< the solver ended without a solution (message: the solver's code)
-  library_unavailable,  ///< the plugin or Siconos could not be loaded (message names them)
-  bad_input,            ///< M not square, sizes differ, n = 0, non-finite entries
-  failed,               ///< Siconos raised a fatal error (message)
+#define PCSIM_LCP_ENUMERATOR(name, message) name,
+  PCSIM_LCP_STATUS_TABLE(PCSIM_LCP_ENUMERATOR)
+#undef PCSIM_LCP_ENUMERATOR
 };
+/// The enumerator's name, e.g. "no_solution" ("unknown" outside the table).
 const char* to_string(LcpStatus status);
+/// The one-line message of the table.
+const char* message(LcpStatus status);
 
 struct LcpOptions {
   LcpSolver solver = LcpSolver::lemke;

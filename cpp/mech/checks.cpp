@@ -18,33 +18,38 @@ int Model::constraint_index(const std::string& constraint_name) const {
 
 const char* to_string(Form form) { return form == Form::ode ? "ode" : "dae"; }
 
+// Names and messages of the engine's statuses, expanded from the tables in mech/status.hpp.
+#define PCSIM_MECH_NAME(name, text) \
+  case E::name: return #name;
+#define PCSIM_MECH_MESSAGE(name, text) \
+  case E::name: return text;
+
 const char* to_string(SimulationStatus status) {
-  switch (status) {
-    case SimulationStatus::success: return "success";
-    case SimulationStatus::stopped_by_observer: return "stopped by the observer";
-    case SimulationStatus::invalid_model: return "invalid model or constraint set";
-    case SimulationStatus::inconsistent_start: return "inconsistent initial state";
-    case SimulationStatus::integration_failed: return "integration failed";
-    case SimulationStatus::model_failed: return "model evaluation failed";
-    case SimulationStatus::projection_failed: return "drift projection failed";
-    case SimulationStatus::observer_error: return "step observer error";
-  }
-  return "?";
+  using E = SimulationStatus;
+  switch (status) { PCSIM_SIMULATION_STATUS_TABLE(PCSIM_MECH_NAME) }
+  return "unknown";
+}
+
+const char* message(SimulationStatus status) {
+  using E = SimulationStatus;
+  switch (status) { PCSIM_SIMULATION_STATUS_TABLE(PCSIM_MECH_MESSAGE) }
+  return "unknown status";
 }
 
 const char* to_string(ModelIssue issue) {
-  switch (issue) {
-    case ModelIssue::none: return "none";
-    case ModelIssue::unknown_constraint: return "unknown constraint";
-    case ModelIssue::singular_mass_matrix: return "singular mass matrix";
-    case ModelIssue::dependent_constraints: return "dependent constraints";
-    case ModelIssue::inconsistent_constraints: return "inconsistent constraints";
-    case ModelIssue::non_finite: return "non-finite value (NaN or Inf)";
-    case ModelIssue::not_constant_row: return "constraint row declared constant is not";
-    case ModelIssue::kernel_failure: return "Huang kernel failure";
-  }
-  return "?";
+  using E = ModelIssue;
+  switch (issue) { PCSIM_MODEL_ISSUE_TABLE(PCSIM_MECH_NAME) }
+  return "unknown";
 }
+
+const char* message(ModelIssue issue) {
+  using E = ModelIssue;
+  switch (issue) { PCSIM_MODEL_ISSUE_TABLE(PCSIM_MECH_MESSAGE) }
+  return "unknown issue";
+}
+
+#undef PCSIM_MECH_NAME
+#undef PCSIM_MECH_MESSAGE
 
 namespace {
 

@@ -451,6 +451,64 @@ ModelIssue Dynamics::solve(ReactionMethod method) {
   return e;
 }
 
+ModelIssue Dynamics::solve_sliding(ReactionMethod method, int imposed,
+                                   const std::vector<SlidingFriction>& sliding) {
+  return method == ReactionMethod::compatibility ? solve_sliding_dense(imposed, sliding)
+                                                 : solve_sliding_structured(imposed, sliding);
+}
+
+ModelIssue Dynamics::solve_sliding_structured(int imposed,
+                                              const std::vector<SlidingFriction>& sliding) {
+  const int sA = imposed;
+  llt_.compute(M);
+  if (llt_.info() != Eigen::Success) return fail(ModelIssue::singular_mass_matrix, "M is not positive definite");
+  const Eigen::MatrixXd gA = g.topRows(sA);
+  Eigen::MatrixXd B = gA.transpose();  // n x sA: g_Aᵀ + F
+  for (const SlidingFriction& c : sliding)
+    B.col(c.normal_row) += -c.coefficient * g.row(c.friction_row).transpose();
+  const Eigen::VectorXd a0 = llt_.solve(f);
+  const Eigen::MatrixXd MinvB = llt_.solve(B);
+  const Eigen::MatrixXd S = gA * MinvB;
+  const Eigen::VectorXd rhs = -(gA * a0 + gamma.head(sA));
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(S);
+  if (!lu.isInvertible())
+    return fail(ModelIssue::dependent_constraints,
+                "the compatibility system with sliding friction is singular (the friction force "
+                "cancels the normal one: Painleve's paradox, or dependent constraints)");
+  lambda.head(sA) = lu.solve(rhs);
+  R = B * lambda.head(sA);
+  qdd = a0 + MinvB * lambda.head(sA);
+  for (const SlidingFriction& c : sliding) lambda[c.friction_row] = -c.coefficient * lambda[c.normal_row];
+  if (!R.allFinite() || !qdd.allFinite())
+    return fail(ModelIssue::non_finite, "the reactions with sliding friction are not finite");
+  return ModelIssue::none;
+}
+
+ModelIssue Dynamics::solve_sliding_dense(int imposed, const std::vector<SlidingFriction>& sliding) {
+  const int sA = imposed, s_all = s_;
+  ModelIssue e = prepare_compatibility();
+  if (e != ModelIssue::none) return e;
+  const Eigen::MatrixXd C = (g * g.transpose()).ldlt().solve(g);  // s_all x n
+  Eigen::MatrixXd Ad(n_, n_);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_);
+  Ad.topRows(sA) = G.topRows(sA);
+  rhs.head(sA) = -G0.head(sA);
+  Ad.middleRows(sA, n_ - s_all) = D.transpose();
+  int r = n_ - (s_all - sA);
+  for (const SlidingFriction& c : sliding)
+    Ad.row(r++) = C.row(c.friction_row) + c.coefficient * C.row(c.normal_row);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Ad);
+  R = lu.solve(rhs);
+  qdd = llt_.solve(f + R);
+  lambda = C * R;
+  if (!R.allFinite() || !qdd.allFinite() ||
+      (Ad * R - rhs).cwiseAbs().maxCoeff() > 1e-8 * (1.0 + rhs.cwiseAbs().maxCoeff() +
+                                                    (Ad.cwiseAbs() * R.cwiseAbs()).maxCoeff()))
+    return fail(ModelIssue::dependent_constraints,
+                "the compatibility system [G; D^T; friction] R = [-G0; 0; 0] is singular");
+  return ModelIssue::none;
+}
+
 void Dynamics::dae_residuals(const Eigen::VectorXd& a, const Eigen::VectorXd& Rv,
                              Eigen::Ref<Eigen::VectorXd> res_dyn,
                              Eigen::Ref<Eigen::VectorXd> res_con) const {

@@ -39,6 +39,16 @@ class ActiveSet {
   unsigned long id_ = 0;
 };
 
+/// One sliding contact of a solve with sliding friction (Dynamics::solve_sliding): the rows of
+/// the evaluated set that carry its normal and its friction direction, and c = μ_k σ sign (the
+/// kinetic friction coefficient, the sliding direction ±1, the gap's sign ±1): the friction
+/// force is −c λ_normal along the friction row.
+struct SlidingFriction {
+  int normal_row = -1;
+  int friction_row = -1;
+  double coefficient = 0.0;
+};
+
 class Dynamics {
  public:
   /// Baumgarte terms are added to γ when stabilization == baumgarte.
@@ -53,6 +63,17 @@ class Dynamics {
 
   /// After evaluate(): factorizes M and solves for R and q̈ (members R, qdd).
   ModelIssue solve(ReactionMethod method);
+
+  /// After evaluate() of a set whose first `imposed` rows are imposed and whose other rows are
+  /// the friction rows of sliding contacts (not imposed: the direction of the friction force):
+  /// R, q̈ and λ with Coulomb's law −c λ_n along each sliding row (issue 12, docs/switching.md).
+  /// compatibility_structured: R = (g_Aᵀ + F) λ_A with F's column of a sliding normal
+  /// −c g_frictionᵀ, from g_A M⁻¹ (g_Aᵀ + F) λ_A = −(g_A M⁻¹ f + γ_A) (non-symmetric, s_A x s_A).
+  /// compatibility: the paper's dense [G; Dᵀ] system with one ideality row per sliding contact
+  /// replaced by the friction law λ_t + c λ_n = 0 (λ = (g gᵀ)⁻¹ g R). λ then holds every row of
+  /// the set: the imposed multipliers first, then those of the sliding rows (R = gᵀ λ).
+  ModelIssue solve_sliding(ReactionMethod method, int imposed,
+                           const std::vector<SlidingFriction>& sliding);
 
   /// After evaluate() and solve(compatibility) (which factorizes M and forms G, G0, D):
   /// the DAE residuals for given a and R: res_dyn = M a − f − R (n),
@@ -93,6 +114,8 @@ class Dynamics {
   bool singular_s_ = false;
   ModelIssue solve_kkt();
   ModelIssue solve_udwadia_kalaba();
+  ModelIssue solve_sliding_structured(int imposed, const std::vector<SlidingFriction>& sliding);
+  ModelIssue solve_sliding_dense(int imposed, const std::vector<SlidingFriction>& sliding);
   void resize_for(int s);
 
   const Model* model_;

@@ -20,7 +20,7 @@ enum class ConstraintKind {
 };
 
 /// Contact attributes of a constraint (issue 12), used by the switching simulation
-/// (mech/switching.hpp) and ignored by everything else: a constraint is unilateral (its gap
+/// (mech/contacts/switching.hpp) and ignored by everything else: a constraint is unilateral (its gap
 /// gap_sign·Φ must stay >= 0 and its normal force gap_sign·λ, with R = gᵀλ, is >= 0 while it
 /// is closed), a friction constraint attached to a unilateral one (its row g q̇ + g0 is the
 /// sliding velocity, its multiplier λ the friction force, Coulomb |λ| <= μ_s λ_n), or neither.

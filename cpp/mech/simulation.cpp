@@ -15,6 +15,56 @@ namespace pcsim::mech {
 
 const Sample& StepView::sample(double s) const { return impl_at_(impl_, s); }
 
+ReactionMethod reaction_method_of(const SimulationOptions& options) {
+  return options.linear_algebra == RadauOptions::LinearAlgebra::lapack ? ReactionMethod::compatibility
+                                                                       : options.reaction_method;
+}
+
+bool project_every_step(const SimulationOptions& options) {
+  return options.linear_algebra == RadauOptions::LinearAlgebra::lapack;
+}
+
+OdeOptions ode_options(const SimulationOptions& options) {
+  OdeOptions oo;
+  oo.kernel = options.kernel;
+  oo.rtol = options.rtol;
+  oo.atol = options.atol;
+  oo.h0 = options.h0;
+  oo.hmax = options.hmax;
+  oo.max_steps = options.max_steps;
+  oo.radau.linear_algebra = options.linear_algebra;
+  return oo;
+}
+
+OdeResult integrate_span(OdeProblem& problem, double t0, const Eigen::VectorXd& y0,
+                         const SimulationOptions& options, const Span& span,
+                         const StepCallback& on_step, SimulationResult& result) {
+  // With linear_algebra = lapack the engine takes the path before issue 14: LAPACK's LU on the
+  // full system (no second-order structure), so earlier results are reproduced bit for bit.
+  if (options.linear_algebra != RadauOptions::LinearAlgebra::lapack) {
+    problem.second_order_count = span.second_order;
+    problem.second_order_stride = span.second_order_stride;
+  }
+  OdeOptions oo = ode_options(options);
+  oo.h0 = span.h0;
+  oo.hmax = span.hmax;
+  oo.max_steps = span.max_steps;
+  oo.events = span.events;
+  const OdeResult rr = ode_integrate(problem, t0, y0, options.t_end, oo, options.method, on_step);
+  result.integrator_status = rr.status;
+  result.stats.f_evals += rr.f_evals;
+  result.stats.steps += rr.steps;
+  result.stats.accepted += rr.accepted;
+  result.stats.rejected += rr.rejected;
+  result.stats.jacobians += rr.radau_stats.jacobians;
+  result.stats.lu_decompositions += rr.radau_stats.lu_decompositions;
+  result.stats.linear_solves += rr.radau_stats.linear_solves;
+  result.used_explicit = result.used_explicit || rr.used_explicit;
+  result.used_radau = result.used_radau || rr.used_radau;
+  if (std::isnan(result.switch_time) && !std::isnan(rr.switch_time)) result.switch_time = rr.switch_time;
+  return rr;
+}
+
 namespace {
 
 class Run {
@@ -28,10 +78,8 @@ class Run {
         sample_dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
         n_(model.n()),
         s_(set_.size()),
-        method_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack
-                    ? ReactionMethod::compatibility
-                    : opt.reaction_method),
-        legacy_(opt.linear_algebra == RadauOptions::LinearAlgebra::lapack),
+        method_(reaction_method_of(opt)),
+        legacy_(project_every_step(opt)),
         q_(n_),
         qd_(n_),
         a_(n_),
@@ -320,39 +368,20 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   }
   // Second-order structure (RADAU5's M1, M2): q' = v in both forms and v' = a in the DAE form,
   // so Radau's linear systems shrink to the remaining rows (n instead of 2n in the ODE form).
-  // With linear_algebra = lapack the engine takes the path before issue 14: LAPACK's LU on the
-  // full system (no second-order structure), so earlier results are reproduced bit for bit.
-  if (options.linear_algebra != RadauOptions::LinearAlgebra::lapack) {
-    problem.second_order_count = options.form == Form::ode ? n : 2 * n;
-    problem.second_order_stride = n;
-  }
-  OdeOptions oo;
-  oo.kernel = options.kernel;
-  oo.rtol = options.rtol;
-  oo.atol = options.atol;
-  oo.h0 = options.h0;
-  oo.hmax = options.hmax;
-  oo.max_steps = options.max_steps;
-  oo.radau.linear_algebra = options.linear_algebra;
-  const OdeResult rr = ode_integrate(
-      problem, options.t0, y0, options.t_end, oo, options.method,
-      [&run, &observer](StepInfo& step) { return run.on_step(step, observer); });
+  Span span;
+  span.h0 = options.h0;
+  span.hmax = options.hmax;
+  span.max_steps = options.max_steps;
+  span.second_order = options.form == Form::ode ? n : 2 * n;
+  span.second_order_stride = n;
+  const OdeResult rr = integrate_span(
+      problem, options.t0, y0, options, span,
+      [&run, &observer](StepInfo& step) { return run.on_step(step, observer); }, result);
 
-  result.integrator_status = rr.status;
   result.status = rr.status == OdeStatus::success               ? SimulationStatus::success
                   : rr.status == OdeStatus::stopped_by_callback ? SimulationStatus::stopped_by_observer
                                                                 : SimulationStatus::integration_failed;
   result.t = rr.t;
-  result.stats.f_evals = rr.f_evals;
-  result.stats.steps = rr.steps;
-  result.stats.accepted = rr.accepted;
-  result.stats.rejected = rr.rejected;
-  result.stats.jacobians = rr.radau_stats.jacobians;
-  result.stats.lu_decompositions = rr.radau_stats.lu_decompositions;
-  result.stats.linear_solves = rr.radau_stats.linear_solves;
-  result.used_explicit = rr.used_explicit;
-  result.used_radau = rr.used_radau;
-  result.switch_time = rr.switch_time;
   result.message = rr.message;
   result.q_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.head(n)) : q;
   result.qd_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.segment(n, n)) : qd;

@@ -39,6 +39,30 @@ struct SimulationOptions {
   double projection_tol = 1e-13;    ///< Newton tolerance of the position projection (relative)
 };
 
+/// The reaction method a run takes: options.reaction_method, or the dense compatibility solve
+/// on the pre-issue-14 path (linear_algebra = lapack).
+ReactionMethod reaction_method_of(const SimulationOptions& options);
+/// True on the pre-issue-14 path (linear_algebra = lapack): the drift projection runs after
+/// every step, not only when a constraint is violated beyond its tolerance.
+bool project_every_step(const SimulationOptions& options);
+
+/// The integrator's options from the engine's (tolerances, steps, kernel, Newton linear
+/// algebra): the one place they are filled, for smooth runs, switching segments and the
+/// steady state's variational equations.
+OdeOptions ode_options(const SimulationOptions& options);
+
+/// One integration of a run to options.t_end: a smooth run, or one segment of a switching run.
+struct Span {
+  double h0 = 0.0;       ///< the first step (0: the integrator's default)
+  double hmax = 0.0;     ///< the largest step (0: the integrator's default)
+  long max_steps = 0;    ///< steps left to the run
+  EventFunctions events;
+  /// Rows of y that are q' = v (RADAU5's M1; stride n): Radau's linear systems shrink to the
+  /// others. Not taken with linear_algebra = lapack (LAPACK's LU on the full system).
+  int second_order = 0;
+  int second_order_stride = 0;
+};
+
 /// The state of the system at one time, with reactions and derived quantities consistent with it.
 struct Sample {
   double t = 0.0;
@@ -84,6 +108,13 @@ struct SimulationResult {
   double residual_vel_max = 0.0;
   Eigen::VectorXd q_end, qd_end;
 };
+
+/// The one driver of simulate() and simulate_switching(): integrates `problem` over the span
+/// from (t0, y0) with ode_options(options) and the span's settings, and adds the integration's
+/// counts and methods to `result` (integrator_status set).
+OdeResult integrate_span(OdeProblem& problem, double t0, const Eigen::VectorXd& y0,
+                         const SimulationOptions& options, const Span& span,
+                         const StepCallback& on_step, SimulationResult& result);
 
 /// Integrates from (q0, qd0) at options.t0 to options.t_end. Never throws (exceptions thrown by
 /// the observer are reported as callback_error). Before integrating it checks the model at the

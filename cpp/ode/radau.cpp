@@ -1,6 +1,6 @@
 // The public Radau IIA API: validates the problem and options, lays out the work arrays, runs
 // the Fortran kernel (through the bridge) or its C++ port with the same callbacks, and maps
-// IDID to RadauStatus with a message naming the time. Exceptions never reach the kernels: the
+// IDID to OdeStatus with a message naming the time. Exceptions never reach the kernels: the
 // trampolines below catch everything and report an error code.
 #include "ode/radau.hpp"
 #include "common/format.hpp"

@@ -11,12 +11,11 @@
 //   p.rhs = [](double t, const double* y, double* f) { f[0] = y[1]; f[1] = -y[0]; return true; };
 //   pcsim::RadauOptions o;  o.rtol = o.atol = 1e-8;
 //   pcsim::RadauResult r = pcsim::radau_integrate(p, 0.0, Eigen::Vector2d(1, 0), 10.0, o);
-//   if (r.status != pcsim::RadauStatus::success) { ... r.message ... }
+//   if (r.status != pcsim::OdeStatus::success) { ... r.message ... }
 #pragma once
 
 #include <functional>
 #include <string>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -26,33 +25,6 @@
 #include "ode/status.hpp"
 
 namespace pcsim {
-
-/// A Jacobian callback: bool(t, y, dfdy) (false = failed), built from any callable returning
-/// bool or void (void: always succeeds), so older void-returning Jacobians still compile.
-class JacobianCallback {
- public:
-  JacobianCallback() = default;
-  JacobianCallback(std::nullptr_t) {}
-  template <class F, class = std::enable_if_t<
-                         !std::is_same_v<std::decay_t<F>, JacobianCallback> &&
-                         std::is_invocable_v<F&, double, const double*, double*>>>
-  JacobianCallback(F f) {  // NOLINT: implicit on purpose
-    using R = std::invoke_result_t<F&, double, const double*, double*>;
-    if constexpr (std::is_void_v<R>) {
-      fn_ = [g = std::move(f)](double t, const double* y, double* d) mutable {
-        g(t, y, d);
-        return true;
-      };
-    } else {
-      fn_ = std::move(f);
-    }
-  }
-  explicit operator bool() const { return static_cast<bool>(fn_); }
-  bool operator()(double t, const double* y, double* dfdy) const { return fn_(t, y, dfdy); }
-
- private:
-  std::function<bool(double, const double*, double*)> fn_;
-};
 
 /// The system K y' = f(t, y). Variables are ordered: index-1 (and ODE) variables first, then
 /// index-2, then index-3 (as in RADAU5's NIND1/NIND2/NIND3).
@@ -65,9 +37,9 @@ struct OdeProblem {
   std::function<bool(double t, const double* y, double* f)> rhs;
 
   /// Optional analytic Jacobian df/dy, column-major n x n into dfdy. Empty: finite differences.
-  /// Return false if it cannot be computed (status jacobian_failed); a callable returning void
-  /// is accepted too (always succeeds). With second_order_count = m1 > 0 rows 0..m1-1 are unused.
-  JacobianCallback jacobian;
+  /// Return false if it cannot be computed (status jacobian_failed). With second_order_count =
+  /// m1 > 0 rows 0..m1-1 are unused.
+  std::function<bool(double t, const double* y, double* dfdy)> jacobian;
 
   /// Constant mass matrix K (n x n). Empty (0 x 0): the identity (an ODE).
   Eigen::MatrixXd mass;
@@ -138,10 +110,6 @@ struct RadauStats {
   long event_evals = 0;          ///< evaluations of the event functions
 };
 
-/// The Radau kernel's statuses are the shared ODE status table (ode/status.hpp); the old name
-/// stays as an alias so code written against RadauStatus compiles unchanged.
-using RadauStatus = OdeStatus;
-
 /// What the step callback sees after every accepted step [t_prev, t].
 class StepInfo {
  public:
@@ -170,7 +138,7 @@ enum class StepAction {
 using StepCallback = std::function<StepAction(StepInfo& step)>;
 
 struct RadauResult {
-  RadauStatus status = RadauStatus::bad_input;
+  OdeStatus status = OdeStatus::bad_input;
   double t = 0.0;              ///< time reached (t_end on success; time of failure otherwise)
   Eigen::VectorXd y;           ///< solution at t
   double h_last = 0.0;         ///< the last (predicted) step size

@@ -53,7 +53,7 @@ struct Setup {
   /// [contact] (issue 12): switch the unilateral constraints (lift-off, impact, slip, stick).
   struct Contact {
     bool switching{};
-    double zeno_time{};           ///< s, the accumulation rule (mech/switching.hpp)
+    double zeno_time{};           ///< s, the accumulation rule (mech/contacts/switching.hpp)
     double flight_hmax{};         ///< s, largest step in flight or slip (0: none)
     long max_events{};
     std::string lcp_solver;

@@ -20,7 +20,7 @@
 #include "common/location.hpp"
 #include "mech/projection.hpp"
 #include "mech/simulation.hpp"
-#include "mech/switching.hpp"
+#include "mech/contacts/switching.hpp"
 #include "sim/switching_summary.hpp"
 #include "sim/client.hpp"
 #include "sim/extremes.hpp"
@@ -367,7 +367,7 @@ RunResult run_case(const Case& c, const RunOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   mech::SwitchingResult sres;
   if (set.contact.switching) {
-    // Issue 12: the contacts switch at their events (mech/switching.hpp).
+    // Issue 12: the contacts switch at their events (mech/contacts/switching.hpp).
     mech::SwitchingOptions sw;
     sw.zeno_time = set.contact.zeno_time;
     sw.flight_hmax = set.contact.flight_hmax;
@@ -414,7 +414,7 @@ RunResult run_case(const Case& c, const RunOptions& options) {
       complete || client_stop
           ? std::string()
           : "the simulation failed at t = " + format_significant(res.t, 9) + " s (" +
-                to_string(res.status) + "): " + res.message;
+                mech::message(res.status) + "): " + res.message;
 
   RunResult r;
   r.columns = timeseries_columns(c);
@@ -437,7 +437,7 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     r.stopped = RunEnd{client_mon->stop_time(), "", client_mon->stop_reason()};
     r.t_reached = res.t;
   } else if (!complete) {
-    r.failure = RunEnd{res.t, to_string(res.status), failure};
+    r.failure = RunEnd{res.t, mech::message(res.status), failure};
     r.t_reached = res.t;
   }
 

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mech/switching.hpp"
+#include "mech/contacts/switching.hpp"
 #include "sim/case.hpp"
 
 namespace pcsim::sim {

@@ -5,6 +5,7 @@
 #include <exception>
 #include <sstream>
 
+#include "mech/simulation.hpp"
 #include "mech/tangent.hpp"
 
 namespace pcsim::steady {
@@ -187,11 +188,13 @@ VariationalResult integrate_variational(const VariationalSetup& setup, double t0
   p.second_order_count = N;
   p.second_order_stride = N;
 
-  OdeOptions oo;
-  oo.kernel = options.kernel;
-  oo.rtol = options.rtol;
-  oo.h0 = options.h0;
-  oo.max_steps = options.max_steps;
+  mech::SimulationOptions engine;
+  engine.kernel = options.kernel;
+  engine.rtol = options.rtol;
+  engine.atol = options.atol;  // taken per component below
+  engine.h0 = options.h0;
+  engine.max_steps = options.max_steps;
+  OdeOptions oo = mech::ode_options(engine);
   oo.atol_vec = Eigen::VectorXd::Constant(A, 1e300);  // quadratures: not under error control
   oo.atol_vec.head(n).setConstant(options.atol);
   oo.atol_vec.segment(N, n).setConstant(options.atol);

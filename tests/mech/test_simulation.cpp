@@ -78,7 +78,7 @@ BOOST_AUTO_TEST_CASE(pendulum_tension_and_motion_match_minimal_coordinates_along
     for (const Point& p : points) {
       if (p.s > t_ref) {
         const RadauResult ref = radau_integrate(minimal, t_ref, y, p.s, ro);
-        BOOST_REQUIRE(ref.status == RadauStatus::success);
+        BOOST_REQUIRE(ref.status == OdeStatus::success);
         y = ref.y;
         t_ref = p.s;
       }

@@ -49,6 +49,7 @@ inline OdeProblem van_der_pol_system(double eps) {
     J[1] = (-2.0 * y[0] * y[1] - 1.0) / eps;     // d f2 / d y1
     J[2] = 1.0;                                  // d f1 / d y2
     J[3] = (1.0 - y[0] * y[0]) / eps;            // d f2 / d y2
+    return true;
   };
   return p;
 }
@@ -123,6 +124,7 @@ inline ReferenceProblem robertson() {
     J[0] = -0.04;  J[3] = 1.0e4 * y[2];                   J[6] = 1.0e4 * y[1];
     J[1] = 0.04;   J[4] = -1.0e4 * y[2] - 6.0e7 * y[1];   J[7] = -1.0e4 * y[1];
     J[2] = 0.0;    J[5] = 6.0e7 * y[1];                   J[8] = 0.0;
+    return true;
   };
   r.t0 = 0.0;
   r.t_end = 1.0e11;
@@ -174,6 +176,7 @@ inline ReferenceProblem index1_dae() {
         -z, 0.0, 0.0, -y[0],
         1.0e4, z, -1.0e4, y[1],
         -2.0 * q * y[0], -2.0 * q * y[1], 0.0, 3.0 * z * z + 1.0;
+    return true;
   };
   p.mass = Eigen::Vector4d(1.0, 1.0, 1.0, 0.0).asDiagonal();
   r.t0 = 0.0;
@@ -230,6 +233,7 @@ inline ReferenceProblem pendulum_dae(const PendulumParameters& P = {}) {
     M(4, 2) = 2.0 * vx;
     M(4, 3) = 2.0 * vy;
     M(4, 4) = -(x * x + y * y) / m;
+    return true;
   };
   Eigen::VectorXd k = Eigen::VectorXd::Ones(5);
   k(4) = 0.0;
@@ -277,6 +281,7 @@ inline ReferenceProblem pendulum_dae_accel(const PendulumParameters& P = {}) {
     M(5, 1) = -lam;  M(5, 5) = -m;  M(5, 6) = -y;
     M(6, 0) = ax;  M(6, 1) = ay;  M(6, 2) = 2.0 * vx;  M(6, 3) = 2.0 * vy;
     M(6, 4) = x;   M(6, 5) = y;
+    return true;
   };
   Eigen::VectorXd k = Eigen::VectorXd::Zero(7);
   k.head(4).setOnes();

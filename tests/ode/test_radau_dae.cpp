@@ -40,8 +40,8 @@ std::pair<TracedRun, TracedRun> run_both_and_compare(const ReferenceProblem& rp,
   TracedRun f = run_traced(rp, Kernel::fortran, rtol, atol, {}, options);
   TracedRun c = run_traced(rp, Kernel::cpp, rtol, atol, {}, options);
   BOOST_TEST_CONTEXT(rp.name << " rtol=" << rtol) {
-    BOOST_TEST((f.result.status == RadauStatus::success), f.result.message);
-    BOOST_TEST((c.result.status == RadauStatus::success), c.result.message);
+    BOOST_TEST((f.result.status == OdeStatus::success), f.result.message);
+    BOOST_TEST((c.result.status == OdeStatus::success), c.result.message);
     BOOST_TEST(f.result.stats.accepted == c.result.stats.accepted);
     BOOST_TEST(f.result.stats.rejected == c.result.stats.rejected);
     BOOST_TEST(trace_disagreement(f, c, atol) <= kKernelAgreement);
@@ -111,7 +111,7 @@ BOOST_AUTO_TEST_CASE(index1_dae_error_decreases_with_requested_tolerance) {
   std::vector<double> errs;
   for (double rtol : {1e-4, 1e-6, 1e-8, 1e-10}) {
     const TracedRun r = run_traced(rp, Kernel::cpp, rtol, rtol);
-    BOOST_REQUIRE_MESSAGE(r.result.status == RadauStatus::success, r.result.message);
+    BOOST_REQUIRE_MESSAGE(r.result.status == OdeStatus::success, r.result.message);
     errs.push_back(max_trace_error(r, exact, 4));
     BOOST_TEST_MESSAGE("index-1 DAE rtol=" << rtol << " err=" << errs.back());
   }
@@ -140,7 +140,7 @@ BOOST_AUTO_TEST_CASE(dense_output_of_dae_tracks_exact_solution) {
         }
       }
     });
-    BOOST_TEST((r.result.status == RadauStatus::success), r.result.message);
+    BOOST_TEST((r.result.status == OdeStatus::success), r.result.message);
     BOOST_TEST_MESSAGE(to_string(kernel) << " dense-output max err=" << worst);
     // The dense output is accurate to O(h^4) locally; with the step sizes the order-5 error
     // control picks, it is still within the global allowance.

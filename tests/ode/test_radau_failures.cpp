@@ -130,7 +130,7 @@ BOOST_AUTO_TEST_CASE(non_finite_jacobian_and_failing_jacobian_have_their_own_sta
 
     // van der Pol recomputes its Jacobian often; this one cannot be computed beyond t = 0.3
     OdeProblem v = testproblems::van_der_pol_system(1e-3);
-    JacobianCallback base = v.jacobian;
+    std::function<bool(double, const double*, double*)> base = v.jacobian;
     v.jacobian = [base](double t, const double* y, double* J) {
       return base(t, y, J) && t < 0.3;
     };

@@ -40,8 +40,8 @@ TracedRun run_both_and_compare(const ReferenceProblem& rp, double rtol, double a
   const TracedRun f = run_traced(rp, Kernel::fortran, rtol, atol);
   const TracedRun c = run_traced(rp, Kernel::cpp, rtol, atol);
   BOOST_TEST_CONTEXT(rp.name << " rtol=" << rtol << " atol=" << atol) {
-    BOOST_TEST((f.result.status == RadauStatus::success), f.result.message);
-    BOOST_TEST((c.result.status == RadauStatus::success), c.result.message);
+    BOOST_TEST((f.result.status == OdeStatus::success), f.result.message);
+    BOOST_TEST((c.result.status == OdeStatus::success), c.result.message);
     BOOST_TEST(f.result.stats.accepted == c.result.stats.accepted);
     BOOST_TEST(f.result.stats.rejected == c.result.stats.rejected);
     BOOST_TEST(trace_disagreement(f, c, atol) <= kKernelAgreement);
@@ -97,7 +97,7 @@ BOOST_AUTO_TEST_CASE(vdpol_run_reproduces_published_radau5_output) {
   for (Kernel kernel : {Kernel::fortran, Kernel::cpp}) {
     const TracedRun r = run_traced(rp, kernel, 1e-4, 1e-4, {}, o);
     BOOST_TEST_CONTEXT(to_string(kernel)) {
-      BOOST_TEST((r.result.status == RadauStatus::success), r.result.message);
+      BOOST_TEST((r.result.status == OdeStatus::success), r.result.message);
       BOOST_TEST(r.result.stats.f_evals == 2218);
       BOOST_TEST(r.result.stats.jacobians == 161);
       BOOST_TEST(r.result.stats.steps == 275);
@@ -174,7 +174,7 @@ BOOST_AUTO_TEST_CASE(robertson_dense_output_matches_published_value_at_t40) {
       BOOST_TEST_MESSAGE(to_string(kernel) << " robertson y(40) rtol=" << rtol
                                            << " max rel err=" << err);
       BOOST_TEST_CONTEXT(to_string(kernel) << " rtol=" << rtol) {
-        BOOST_TEST((r.result.status == RadauStatus::success), r.result.message);
+        BOOST_TEST((r.result.status == OdeStatus::success), r.result.message);
         BOOST_TEST(at40.allFinite());  // t = 40 was inside an accepted step
         BOOST_TEST(err <= kGlobalFactor * rtol + 2e-10);
       }
@@ -224,7 +224,7 @@ BOOST_AUTO_TEST_CASE(robertson_conserves_total_mass_over_whole_run) {
             }
           });
       BOOST_TEST_CONTEXT(to_string(kernel) << " rtol=" << rtol) {
-        BOOST_TEST((r.result.status == RadauStatus::success), r.result.message);
+        BOOST_TEST((r.result.status == OdeStatus::success), r.result.message);
         for (const Eigen::VectorXd& y : r.y) worst_step = std::max(worst_step, std::abs(y.sum() - 1.0));
         BOOST_TEST_MESSAGE(to_string(kernel) << " rtol=" << rtol << " max |sum-1| at steps="
                                              << worst_step << " dense=" << worst_dense << " over "
@@ -253,7 +253,7 @@ BOOST_AUTO_TEST_CASE(achieved_error_decreases_with_requested_tolerance) {
       std::vector<double> errs;
       for (double rtol : {1e-4, 1e-6, 1e-8, 1e-10}) {
         const TracedRun r = run_traced(c.rp, kernel, rtol, c.atol_factor * rtol);
-        BOOST_REQUIRE_MESSAGE(r.result.status == RadauStatus::success, r.result.message);
+        BOOST_REQUIRE_MESSAGE(r.result.status == OdeStatus::success, r.result.message);
         errs.push_back(max_relative_error(r.result.y, c.rp.y_ref));
         BOOST_TEST_MESSAGE(to_string(kernel) << " " << c.rp.name << " rtol=" << rtol << " err="
                                              << errs.back() << " digits="

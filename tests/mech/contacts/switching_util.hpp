@@ -8,7 +8,7 @@
 
 #include <Eigen/Dense>
 
-#include "mech/switching.hpp"
+#include "mech/contacts/switching.hpp"
 #include "modelfile/model_file.hpp"
 
 namespace switching_test {

@@ -1,0 +1,291 @@
+// The contact set: contacts of the active constraints, layouts, kinematics, tolerances.
+#include "mech/contacts/contact_set.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+
+#include "common/format.hpp"
+#include "mech/projection.hpp"
+
+namespace pcsim::mech::contacts {
+
+std::string num(double v) { return format_significant(v, 9); }
+
+ContactSet::ContactSet(const Model& model, std::vector<int> active, Accuracy accuracy,
+                       std::string& why)
+    : model_(model), active_(std::move(active)), acc_(accuracy), n_(model.n()) {
+  why.clear();
+  for (int i : active_) {
+    const ContactInfo& ci = model.constraints()[i].contact;
+    if (!ci.unilateral && !ci.is_friction()) bilateral_.push_back(i);
+  }
+  for (int i : active_) {
+    const ConstraintInfo& ci = model.constraints()[i];
+    if (!ci.contact.unilateral) continue;
+    if (ci.kind != ConstraintKind::holonomic) {
+      why = "the unilateral constraint '" + ci.name + "' is not holonomic";
+      contacts_.clear();
+      return;
+    }
+    ContactDef d;
+    d.normal = i;
+    d.sign = ci.contact.gap_sign >= 0 ? 1 : -1;
+    d.e = ci.contact.restitution;
+    d.name = ci.name;
+    contacts_.push_back(d);
+  }
+  for (int i : active_) {
+    const ConstraintInfo& ci = model.constraints()[i];
+    if (!ci.contact.is_friction()) continue;
+    ContactDef* owner = nullptr;
+    for (ContactDef& d : contacts_)
+      if (d.normal == ci.contact.friction_of) owner = &d;
+    if (!owner) {
+      why = "the friction constraint '" + ci.name + "' acts at the unilateral constraint '" +
+            model.constraints()[ci.contact.friction_of].name +
+            "', which is not active (activate both, or neither)";
+    } else if (owner->friction >= 0) {
+      why = "the unilateral constraint '" + owner->name + "' has two active friction constraints ('" +
+            model.constraints()[owner->friction].name + "' and '" + ci.name + "'); activate one";
+    }
+    if (!why.empty()) {
+      contacts_.clear();
+      return;
+    }
+    owner->friction = i;
+    owner->mu_s = ci.contact.mu_static;
+    owner->mu_k = ci.contact.mu_kinetic;
+  }
+}
+
+Layout ContactSet::layout(const Config& cfg) const {
+  Layout L;
+  std::vector<int> rows;
+  L.normal_pos.assign(nc(), -1);
+  L.friction_pos.assign(nc(), -1);
+  for (int i : active_) {
+    const ContactInfo& ci = model_.constraints()[i].contact;
+    int c = -1;
+    if (ci.unilateral) {
+      c = contact_of_normal(i);
+      if (!is_closed(cfg.modes[c])) continue;
+      L.normal_pos[c] = static_cast<int>(rows.size());
+    } else if (ci.is_friction()) {
+      c = contact_of_friction(i);
+      if (c < 0 || cfg.modes[c] != ContactMode::stick) continue;
+      if (!cfg.implied.empty() && cfg.implied[c]) continue;
+      L.friction_pos[c] = static_cast<int>(rows.size());
+    }
+    rows.push_back(i);
+  }
+  L.imposed = rows;
+  L.s_A = static_cast<int>(rows.size());
+  for (int c = 0; c < nc(); ++c) {
+    if (cfg.modes[c] == ContactMode::slip) {
+      L.friction_pos[c] = static_cast<int>(rows.size());
+      rows.push_back(contacts_[c].friction);
+    }
+  }
+  L.set = ActiveSet::of(model_, rows);
+  return L;
+}
+
+int ContactSet::contact_of_normal(int constraint) const {
+  for (int c = 0; c < nc(); ++c)
+    if (contacts_[c].normal == constraint) return c;
+  return -1;
+}
+
+int ContactSet::contact_of_friction(int constraint) const {
+  for (int c = 0; c < nc(); ++c)
+    if (contacts_[c].friction == constraint) return c;
+  return -1;
+}
+
+Row ContactSet::row(int constraint, double t, const Eigen::VectorXd& q,
+                    const Eigen::VectorXd& qd) const {
+  Eigen::MatrixXd g(1, n_);
+  Eigen::VectorXd g0(1), gamma(1);
+  model_.constraint_rows({constraint}, t, q, qd, g, g0, gamma);
+  Row r;
+  r.g = g.row(0);
+  r.g0 = g0[0];
+  r.gamma = gamma[0];
+  return r;
+}
+
+Row ContactSet::normal_row(int c, double t, const Eigen::VectorXd& q,
+                           const Eigen::VectorXd& qd) const {
+  Row r = row(contacts_[c].normal, t, q, qd);
+  const double s = contacts_[c].sign;
+  r.g *= s;
+  r.g0 *= s;
+  r.gamma *= s;
+  return r;
+}
+
+double ContactSet::gap(int c, double t, const Eigen::VectorXd& q) const {
+  return contacts_[c].sign * model_.position_residual(contacts_[c].normal, t, q);
+}
+
+double ContactSet::vn(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+  return normal_row(c, t, q, qd).value(qd);
+}
+
+double ContactSet::vt(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+  if (contacts_[c].friction < 0) return 0.0;
+  return row(contacts_[c].friction, t, q, qd).value(qd);
+}
+
+double ContactSet::row_scale(const Row& r, double t, const Eigen::VectorXd& q) const {
+  return r.g.cwiseAbs().dot(q.cwiseAbs()) + std::abs(r.g0 * t);
+}
+
+double ContactSet::gap_round(int c, double t, const Eigen::VectorXd& q) const {
+  const Row r = normal_row(c, t, q, Eigen::VectorXd::Zero(n_));
+  return kRound * kEps * row_scale(r, t, q);
+}
+
+double ContactSet::gap_tol(int c, double t, const Eigen::VectorXd& q) const {
+  const Row r = normal_row(c, t, q, Eigen::VectorXd::Zero(n_));
+  return 10.0 * acc_.atol * r.g.cwiseAbs().sum() + kRound * kEps * row_scale(r, t, q);
+}
+
+double ContactSet::velocity_tol(const Row& r, const Eigen::VectorXd& qd) const {
+  const double terms = r.g.cwiseAbs().dot(qd.cwiseAbs()) + std::abs(r.g0);
+  return 10.0 * (acc_.atol * r.g.cwiseAbs().sum() + acc_.rtol * terms) + kRound * kEps * terms;
+}
+
+double ContactSet::vn_tol(int c, double t, const Eigen::VectorXd& q,
+                          const Eigen::VectorXd& qd) const {
+  return velocity_tol(normal_row(c, t, q, qd), qd);
+}
+
+double ContactSet::vt_tol(int c, double t, const Eigen::VectorXd& q,
+                          const Eigen::VectorXd& qd) const {
+  if (contacts_[c].friction < 0) return 0.0;
+  return velocity_tol(row(contacts_[c].friction, t, q, qd), qd);
+}
+
+double ContactSet::velocity_round(const Row& r, const Eigen::VectorXd& qd) const {
+  return kRound * kEps * (r.g.cwiseAbs().dot(qd.cwiseAbs()) + std::abs(r.g0));
+}
+
+ModelIssue solve_reactions(Dynamics& d, const ContactSet& cs, const Layout& L, const Config& cfg,
+                           double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                           Solved& out, ReactionMethod method) {
+  ModelIssue e = d.evaluate(L.set, t, q, qd);
+  if (e != ModelIssue::none) return e;
+  if (L.set.size() == L.s_A) {
+    // No sliding contact: exactly the engine's solve of simulate().
+    e = d.solve(method);
+  } else {
+    std::vector<SlidingFriction> sliding;
+    for (int c = 0; c < cs.nc(); ++c)
+      if (cfg.modes[c] == ContactMode::slip)
+        sliding.push_back({L.normal_pos[c], L.friction_pos[c], cs[c].mu_k * cfg.sigma[c] * cs[c].sign});
+    e = d.solve_sliding(method, L.s_A, sliding);
+  }
+  if (e != ModelIssue::none) return e;
+  out.qdd = d.qdd;
+  out.R = d.R;
+  out.lambda = d.lambda.head(L.s_A);
+  out.lambda_n.assign(cs.nc(), 0.0);
+  out.lambda_t.assign(cs.nc(), 0.0);
+  for (int c = 0; c < cs.nc(); ++c) {
+    if (L.normal_pos[c] < 0) continue;
+    out.lambda_n[c] = cs[c].sign * out.lambda[L.normal_pos[c]];
+    if (cfg.modes[c] == ContactMode::stick && L.friction_pos[c] >= 0)
+      out.lambda_t[c] = out.lambda[L.friction_pos[c]];
+    if (cfg.modes[c] == ContactMode::slip)
+      out.lambda_t[c] = -cs[c].mu_k * cfg.sigma[c] * out.lambda_n[c];
+  }
+  return ModelIssue::none;
+}
+
+}  // namespace pcsim::mech::contacts
+
+namespace pcsim::mech {
+
+const char* to_string(ContactMode mode) {
+  switch (mode) {
+    case ContactMode::flight: return "flight";
+    case ContactMode::contact: return "contact";
+    case ContactMode::stick: return "stick";
+    case ContactMode::slip: return "slip";
+  }
+  return "unknown";
+}
+
+const char* to_string(ContactEventKind kind) {
+  switch (kind) {
+    case ContactEventKind::lift_off: return "lift_off";
+    case ContactEventKind::impact: return "impact";
+    case ContactEventKind::accumulation: return "accumulation";
+    case ContactEventKind::slip: return "slip";
+    case ContactEventKind::stick: return "stick";
+    case ContactEventKind::reversal: return "reversal";
+  }
+  return "unknown";
+}
+
+std::ostream& operator<<(std::ostream& os, ContactMode mode) { return os << to_string(mode); }
+std::ostream& operator<<(std::ostream& os, ContactEventKind kind) { return os << to_string(kind); }
+
+std::vector<std::string> unilateral_constraints(const Model& model,
+                                                const std::vector<std::string>& active) {
+  std::vector<std::string> out;
+  for (const ConstraintInfo& c : model.constraints())
+    if (c.contact.unilateral && std::find(active.begin(), active.end(), c.name) != active.end())
+      out.push_back(c.name);
+  return out;
+}
+
+// ---- switching_reactions (tests of the two formulations) ------------------------------------------
+
+ReactionResult switching_reactions(const Model& model, const std::vector<std::string>& active,
+                                   const std::vector<ContactMode>& modes,
+                                   const std::vector<int>& slip_sign, double t,
+                                   const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                   ReactionMethod method, Kernel kernel) {
+  ReactionResult out;
+  std::vector<int> idx;
+  std::string msg;
+  if (const ModelIssue e = resolve_constraints(model, active, idx, msg); e != ModelIssue::none) {
+    out.issue = e;
+    out.message = msg;
+    return out;
+  }
+  std::string why;
+  const contacts::ContactSet cs(model, idx, contacts::Accuracy{}, why);
+  if (!why.empty()) {
+    out.issue = ModelIssue::unknown_constraint;
+    out.message = why;
+    return out;
+  }
+  if (modes.size() != static_cast<std::size_t>(cs.nc()) ||
+      slip_sign.size() != static_cast<std::size_t>(cs.nc())) {
+    out.issue = ModelIssue::unknown_constraint;
+    out.message = "switching_reactions: one mode and one slip sign per unilateral constraint";
+    return out;
+  }
+  contacts::Config cfg;
+  cfg.modes = modes;
+  cfg.sigma = slip_sign;
+  const contacts::Layout L = cs.layout(cfg);
+  contacts::Solved s;
+  Dynamics d(model, kernel);
+  const ModelIssue e = contacts::solve_reactions(d, cs, L, cfg, t, q, qd, s, method);
+  if (e != ModelIssue::none) {
+    out.issue = e;
+    out.message = d.message();
+    return out;
+  }
+  out.R = s.R;
+  out.qdd = s.qdd;
+  out.lambda = s.lambda;
+  return out;
+}
+
+}  // namespace pcsim::mech

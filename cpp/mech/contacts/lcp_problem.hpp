@@ -1,0 +1,71 @@
+// The complementarity problem of the contacts that touch (issue 12): at impulse level for an
+// impact (Newton's law with Coulomb friction), at acceleration level for the mode decision. Its
+// rows J, the inverse inertia P the contacts see with the bilateral constraints imposed, the
+// Delassus matrix W = J P Jᵀ, and its solution: the single contact in closed form, several by
+// the LCP solvers of lcp/ (Siconos), the solution then polished on the equations of its modes.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "lcp/lcp.hpp"
+#include "mech/contacts/contact_set.hpp"
+
+namespace pcsim::mech::contacts {
+
+/// One contact in a complementarity problem. frictional: the planar Coulomb cone with the
+/// variables (Λn, β+, β−, ζ), Λt = β+ − β− (Stewart-Trinkle); sliding (acceleration level,
+/// |v_t| > 0): the friction force −μ σ Λn along the row, variable Λn only; otherwise Λn only.
+struct Cand {
+  int c = 0;
+  bool frictional = false;
+  int sigma = 0;   ///< sliding direction (acceleration level, sliding contacts)
+  double e = 0.0;  ///< restitution (impulse level)
+  double mu = 0.0;
+  int kn = -1, kt = -1;  ///< rows in J
+  int zn = -1;           ///< first variable
+};
+
+/// The LCP w = A z + b of candidates with rows J, Delassus W = J P Jᵀ and free values f (the
+/// contact velocities before the impulse, or accelerations without contact forces).
+struct Problem {
+  std::vector<Cand> cands;
+  Eigen::MatrixXd W, E, A;  ///< E: rows of J x variables (Λ_J = E z)
+  Eigen::VectorXd f, b;
+  bool impulse = false;
+};
+
+/// How a problem is solved, and what the solves did over a run.
+struct LcpSettings {
+  /// The single-contact problem in closed form (false: always by the LCP solver).
+  bool closed_form_single = true;
+  lcp::LcpSolver solver = lcp::LcpSolver::lemke;
+};
+struct LcpCounters {
+  long solves = 0;                   ///< problems solved by the LCP solver
+  bool library_unavailable = false;  ///< the last failure was the solver library's absence
+};
+
+/// Rows J (normal, then tangent of each candidate) at the state; sets the candidates' kn, kt.
+void rows_of(const ContactSet& cs, Problem& p, double t, const Eigen::VectorXd& q,
+             const Eigen::VectorXd& qd, Eigen::MatrixXd& J, Eigen::VectorXd& j0,
+             Eigen::VectorXd& jgamma);
+
+/// P = M⁻¹ − M⁻¹ g_Bᵀ (g_B M⁻¹ g_Bᵀ)⁻¹ g_B M⁻¹ (the inverse inertia with the bilateral
+/// constraints imposed) and a_B, the acceleration with only the bilateral constraints, by `d`.
+/// On failure `message` says why.
+ModelIssue contact_inertia(Dynamics& d, const ContactSet& cs, double t, const Eigen::VectorXd& q,
+                           const Eigen::VectorXd& qd, Eigen::MatrixXd& P, Eigen::VectorXd& aB,
+                           std::string& message);
+
+/// Solves the problem: closed form for one candidate (settings permitting), else the LCP
+/// solver. Returns false with `message` set when no solution is found.
+bool solve_problem(const ContactSet& cs, Problem& p, const LcpSettings& settings, double t,
+                   Eigen::VectorXd& z, LcpCounters& counters, std::string& message);
+
+/// "'a', 'b'": the candidates' contacts, for messages.
+std::string names(const ContactSet& cs, const Problem& p);
+
+}  // namespace pcsim::mech::contacts
