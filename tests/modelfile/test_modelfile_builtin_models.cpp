@@ -1,5 +1,5 @@
 // The model files of the engine's validation models (models/pendulum.toml, rolling_disk.toml,
-// slider_crank.toml) are the same systems as the C++ models of cpp/mech/models: at random
+// slider_crank.toml) are the same systems as the C++ models of tests/mech/models: at random
 // states they give the same M, h, Q, constraint rows, position residuals, reactions and derived
 // quantities. The C++ models are derived by automatic differentiation, the files symbolically:
 // two independent derivations of one Lagrangian.

@@ -1,5 +1,5 @@
 // The model registry: model name -> factory building an immutable Model from a parameter map.
-// Adding a model is one file cpp/mech/models/<name>.cpp defining
+// Adding a model is one file tests/mech/models/<name>.cpp defining
 //   std::shared_ptr<const Model> create_<name>(const ModelParameters&)
 // and one line X(<name>) in the list PCSIM_MECH_MODELS of registry.cpp (an explicit list, so it
 // works from a static library, where self-registering static objects would be dropped).

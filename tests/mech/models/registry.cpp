@@ -7,7 +7,7 @@
 #include "common/error.hpp"
 
 // ---- The list of built-in models: one line X(<name>) per model -------------------------------
-// Each cpp/mech/models/<name>.cpp defines create_<name>(const ModelParameters&) and
+// Each tests/mech/models/<name>.cpp defines create_<name>(const ModelParameters&) and
 // <name>_defaults().
 #define PCSIM_MECH_MODELS(X) \
   X(pendulum)                \
