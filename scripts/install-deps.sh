@@ -4,7 +4,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake ninja-build pkg-config gfortran
+  build-essential cmake ninja-build pkg-config gfortran ccache
   libeigen3-dev liblapack-dev libblas-dev
   libboost-test-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
