@@ -54,6 +54,7 @@ struct Config {
   const char* label;
   std::vector<Override> overrides;
   std::string variant;
+  bool before_issue_14 = false;  ///< the engine's path before issue 14 (dense solve, projection every step)
 };
 
 struct Row {
@@ -94,7 +95,7 @@ int main(int argc, char** argv) {
   const std::vector<Config> configs = {
       {"release path (AD closed form, Radau, LAPACK, dense solve)",
        {{"solver.method", "radau"}, {"solver.linear_algebra", "lapack"}},
-       "closed_form"},
+       "closed_form", true},
       {"C++ AD closed form, default integrator", {}, "closed_form"},
       {"default with Radau (model-file tape, own LU, M1/M2)", {{"solver.method", "radau"}}, ""},
       {"default (model-file tape, auto = explicit 8(5,3))", {}, ""},
@@ -104,7 +105,7 @@ int main(int argc, char** argv) {
     for (std::size_t c = 0; c < configs.size(); ++c) {  // interleaved: load drifts hit all rows
       const double w0 = wall_now(), c0 = cpu_now();
       const Case cs = load_case(file, configs[c].overrides);
-      RunOptions o;
+      RunOptions o = configs[c].before_issue_14 ? pcsim::sieve::testing::path_before_issue_14() : RunOptions{};
       o.out_dir = out;
       o.variant = configs[c].variant;
       nlohmann::json s = to_json(run_case(cs, o));

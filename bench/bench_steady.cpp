@@ -65,8 +65,7 @@ void compare(const std::string& file, const std::string& label, int repeats) {
   // The 10 s run on the path of the time issue 13 was filed (before issue 14's speed-ups: the AD
   // closed form, Radau, LAPACK, the dense compatibility solve; bench_sieve's "release path").
   const sim::Case old_case = sim::load_case(file, {{"solver.method", "radau"}, {"solver.linear_algebra", "lapack"}});
-  sim::RunOptions old_opt;
-  old_opt.variant = "closed_form";
+  const sim::RunOptions old_opt = sieve::testing::path_before_issue_14();
   const double t_old = min_time(std::min(repeats, 3), [&] { sim::run_case(old_case, old_opt); });
   // The roller held where the run ends (theta locked: the position changes nothing).
   const sim::Case held = sim::load_case(file, {{"initial.s0", format_number(run["q_end"]["s"].get<double>())}});

@@ -161,7 +161,8 @@ class Model {
 };
 
 /// Wraps a model struct (see above) into an immutable Model. The struct is copied in.
-/// Throws pcsim::InputError if the model has no coordinates or more than kMaxCoordinates.
+/// Throws std::invalid_argument (a programming error in the C++ model, not the user's input) if
+/// the model has no coordinates, more than kMaxCoordinates, or a kCoordinates that disagrees.
 template <class Impl> std::shared_ptr<const Model> make_model(Impl impl);
 
 }  // namespace pcsim::mech

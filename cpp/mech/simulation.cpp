@@ -15,15 +15,6 @@ namespace pcsim::mech {
 
 const Sample& StepView::sample(double s) const { return impl_at_(impl_, s); }
 
-ReactionMethod reaction_method_of(const SimulationOptions& options) {
-  return options.linear_algebra == RadauOptions::LinearAlgebra::lapack ? ReactionMethod::compatibility
-                                                                       : options.reaction_method;
-}
-
-bool project_every_step(const SimulationOptions& options) {
-  return options.linear_algebra == RadauOptions::LinearAlgebra::lapack;
-}
-
 OdeOptions ode_options(const SimulationOptions& options) {
   OdeOptions oo;
   oo.kernel = options.kernel;
@@ -39,8 +30,8 @@ OdeOptions ode_options(const SimulationOptions& options) {
 OdeResult integrate_span(OdeProblem& problem, double t0, const Eigen::VectorXd& y0,
                          const SimulationOptions& options, const Span& span,
                          const StepCallback& on_step, SimulationResult& result) {
-  // With linear_algebra = lapack the engine takes the path before issue 14: LAPACK's LU on the
-  // full system (no second-order structure), so earlier results are reproduced bit for bit.
+  // linear_algebra = lapack is LAPACK's LU on the full Newton system: without the second-order
+  // structure (RADAU5's M1), which only the own LU exploits.
   if (options.linear_algebra != RadauOptions::LinearAlgebra::lapack) {
     problem.second_order_count = span.second_order;
     problem.second_order_stride = span.second_order_stride;
@@ -78,8 +69,8 @@ class Run {
         sample_dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
         n_(model.n()),
         s_(set_.size()),
-        method_(reaction_method_of(opt)),
-        legacy_(project_every_step(opt)),
+        method_(opt.reaction_method),
+        legacy_(opt.project_every_step),
         q_(n_),
         qd_(n_),
         a_(n_),

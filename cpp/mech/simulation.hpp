@@ -25,9 +25,12 @@ struct SimulationOptions {
                                         ///< Radau where the stiffness test fires)
   RadauOptions::LinearAlgebra linear_algebra = RadauOptions::LinearAlgebra::automatic;
   /// How the ODE form and the samples solve for R: the structured solve of the compatibility
-  /// system (default) or the paper's dense one (taken automatically with linear_algebra = lapack,
-  /// the pre-issue-14 path). The DAE form always carries [G; Dᵀ] with Huang's D.
+  /// system (default) or the paper's dense one. The DAE form always carries [G; Dᵀ] with
+  /// Huang's D.
   ReactionMethod reaction_method = ReactionMethod::compatibility_structured;
+  /// The drift projection after every accepted step (the path before issue 14), instead of only
+  /// where a constraint is violated beyond its tolerance (default).
+  bool project_every_step = false;
   double rtol = 1e-8, atol = 1e-8;
   double h0 = 0.0;                  ///< 0: integrator default
   double hmax = 0.0;                ///< 0: integrator default
@@ -38,13 +41,6 @@ struct SimulationOptions {
   double baumgarte_beta = 10.0;     ///< 1/s
   double projection_tol = 1e-13;    ///< Newton tolerance of the position projection (relative)
 };
-
-/// The reaction method a run takes: options.reaction_method, or the dense compatibility solve
-/// on the pre-issue-14 path (linear_algebra = lapack).
-ReactionMethod reaction_method_of(const SimulationOptions& options);
-/// True on the pre-issue-14 path (linear_algebra = lapack): the drift projection runs after
-/// every step, not only when a constraint is violated beyond its tolerance.
-bool project_every_step(const SimulationOptions& options);
 
 /// The integrator's options from the engine's (tolerances, steps, kernel, Newton linear
 /// algebra): the one place they are filled, for smooth runs, switching segments and the

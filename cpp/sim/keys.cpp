@@ -85,8 +85,7 @@ std::vector<KeySpec> table() {
   keys.push_back(choice("solver", "linear_algebra",
                         "Radau's linear algebra: the project's small-matrix LU on the reduced "
                         "(second-order) systems where it is faster than LAPACK (auto), always the "
-                        "own LU, or LAPACK's LU on the full system (the path before issue 14, "
-                        "reproducing earlier results bit for bit)",
+                        "own LU, or LAPACK's LU on the full system; it changes nothing else",
                         {"auto", "own", "lapack"}, "auto"));
   // The default tolerances (README, "Case files"): a 1 m pendulum released horizontally
   // (IFToMM A01) ends 10 s later within 1.1e-7 m of the exact motion with them (1.8e-5 m with

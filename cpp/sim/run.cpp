@@ -344,7 +344,8 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     check_step_budget(c, set, *model, set.t_end,
                       "solver.t_end = " + format_significant(set.t_end, 6) + " s of motion");
 
-  const mech::SimulationOptions so = simulation_options(set);
+  mech::SimulationOptions so = simulation_options(set);
+  if (options.engine) options.engine(so);
 
   const SummaryWindow window = summary_window(set);
   const double w0 = window.w0, w1 = window.w1;

@@ -38,6 +38,10 @@ struct RunOptions {
   /// to ModelSource::instantiate ("" = the default; the sieve's tests and benchmarks register
   /// its C++ forms "closed_form", "geometric", "analytic": tests/sieve/support/variants.hpp).
   std::string variant;
+  /// Internal (not a case key): adjusts the engine's options after the case's, e.g. the path
+  /// before issue 14 (the dense compatibility solve, projection after every step) on which the
+  /// rolling-as-printed references were made (tests/sieve/support/variants.hpp).
+  std::function<void(mech::SimulationOptions&)> engine;
   // Internal (pcsim steady: one period of a periodic orbit through the same run and summary):
   /// wraps the instantiated model (the holding forces of slow coordinates);
   std::function<std::shared_ptr<const mech::Model>(std::shared_ptr<const mech::Model>)> wrap_model;

@@ -12,7 +12,7 @@ ModeLogic::ModeLogic(const ContactSet& cs, const SimulationOptions& opt, const S
     : cs_(cs),
       kernel_(opt.kernel),
       projection_tol_(opt.projection_tol),
-      method_(reaction_method_of(opt)),
+      method_(opt.reaction_method),
       lcp_policy_(sw.lcp),
       lcp_solver_(sw.lcp_solver),
       aux_dyn_(cs.model(), opt.kernel),

@@ -20,7 +20,7 @@ Segment::Segment(const ContactSet& cs, ModeLogic& modes, const SimulationOptions
       res_(res),
       observer_(observer),
       n_(cs.n()),
-      method_(reaction_method_of(opt)),
+      method_(opt.reaction_method),
       rhs_dyn_(cs.model(), opt.kernel),
       sample_dyn_(cs.model(), opt.kernel),
       event_dyn_(cs.model(), opt.kernel) {}
@@ -390,7 +390,7 @@ StepAction Segment::on_step(StepInfo& step) {
 // tolerance already is left alone (the projection would change it by rounding only, and the
 // explicit pair keeps its last evaluation); the pre-issue-14 path projects after every step.
 bool Segment::consistent_enough(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-  if (project_every_step(opt_)) return false;
+  if (opt_.project_every_step) return false;
   // Row by row, each to its own scale (row_within_projection_tol, shared with simulate()).
   for (int i : layout_.imposed) {
     const Row r = cs_.row(i, t, q, qd);

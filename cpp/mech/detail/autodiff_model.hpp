@@ -5,12 +5,13 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 
 #include <unsupported/Eigen/AutoDiff>
 
-#include "common/error.hpp"
 #include "mech/detail/kinetic_jet.hpp"
 
 namespace pcsim::mech::detail {
@@ -106,11 +107,11 @@ class AutoDiffModel final : public Model {
     name_ = impl_.name();
     coordinates_ = impl_.coordinates();
     if (coordinates_.empty() || static_cast<int>(coordinates_.size()) > kMaxCoordinates) {
-      throw InputError("model '" + name_ + "': " + std::to_string(coordinates_.size()) +
-                       " coordinates; a model needs 1.." + std::to_string(kMaxCoordinates));
+      throw std::invalid_argument("model '" + name_ + "': " + std::to_string(coordinates_.size()) +
+                                  " coordinates; a model needs 1.." + std::to_string(kMaxCoordinates));
     }
     if (Ad::kFixed && static_cast<int>(coordinates_.size()) != static_size<Impl>::value) {
-      throw InputError("model '" + name_ + "': kCoordinates = " +
+      throw std::invalid_argument("model '" + name_ + "': kCoordinates = " +
                        std::to_string(static_size<Impl>::value) + " but coordinates() has " +
                        std::to_string(coordinates_.size()) + " names");
     }
