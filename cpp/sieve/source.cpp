@@ -27,18 +27,7 @@ class SieveSource final : public sim::ModelSource {
     const auto file = sim::embedded_description("sieve_1995");
     auto spec = [&file](const std::string& name) {
       for (const auto& p : file->parameters())
-        if (p.name == name) {
-          sim::ParameterSpec s;
-          s.name = p.name;
-          s.value = p.value;
-          s.unit = p.unit;
-          s.meaning = p.meaning;
-          s.min = p.min;
-          s.max = p.max;
-          s.min_exclusive = p.min_exclusive;
-          s.max_exclusive = p.max_exclusive;
-          return s;
-        }
+        if (p.name == name) return sim::parameter_spec(p);
       throw std::logic_error("models/sieve_1995.toml: no parameter " + name);
     };
     for (const char* name : {"m0", "m1", "m2", "J0", "J1", "J2", "r", "e", "cx", "cy", "ctheta",

@@ -12,6 +12,19 @@
 
 namespace pcsim::sim {
 
+ParameterSpec parameter_spec(const modelfile::ParameterSpec& p) {
+  ParameterSpec s;
+  s.name = p.name;
+  s.value = p.value;
+  s.unit = p.unit;
+  s.meaning = p.meaning;
+  s.min = p.min;
+  s.max = p.max;
+  s.min_exclusive = p.min_exclusive;
+  s.max_exclusive = p.max_exclusive;
+  return s;
+}
+
 namespace {
 
 /// 64-bit FNV-1a of a text, as 16 hex digits (the fingerprint of a model's definition).
@@ -31,18 +44,7 @@ class FileModelSource final : public ModelSource {
   FileModelSource(std::shared_ptr<const modelfile::ModelDescription> d, std::string origin,
                   std::string fingerprint)
       : d_(std::move(d)), origin_(std::move(origin)), fingerprint_(std::move(fingerprint)) {
-    for (const auto& p : d_->parameters()) {
-      ParameterSpec s;
-      s.name = p.name;
-      s.value = p.value;
-      s.unit = p.unit;
-      s.meaning = p.meaning;
-      s.min = p.min;
-      s.max = p.max;
-      s.min_exclusive = p.min_exclusive;
-      s.max_exclusive = p.max_exclusive;
-      parameters_.push_back(s);
-    }
+    for (const auto& p : d_->parameters()) parameters_.push_back(parameter_spec(p));
     for (const auto& c : d_->constraints())
       constraints_.push_back({c.name, c.kind, c.active_by_default, "", c.unilateral, c.friction});
     for (const auto& o : d_->outputs()) outputs_.push_back(o.name);

@@ -20,6 +20,9 @@ std::shared_ptr<const ModelSource> make_file_model_source(
 std::shared_ptr<const ModelSource> make_embedded_model_source(const std::string& name,
                                                               const std::string& file_stem);
 
+/// A model file's parameter as the case layer's parameter spec (default, unit, meaning, range).
+ParameterSpec parameter_spec(const modelfile::ParameterSpec& p);
+
 /// The embedded model file's description (shared; built on first use).
 std::shared_ptr<const modelfile::ModelDescription> embedded_description(const std::string& file_stem);
 
