@@ -12,9 +12,6 @@ import pytest
 import pcsim
 
 RUNS = 10_000
-# Under the sanitizers (the Debug build) every run is ~30 times slower: fewer runs there.
-if os.environ.get("PCSIM_SANITIZED"):
-    RUNS = 1_000
 
 
 def rss_bytes():
@@ -22,6 +19,9 @@ def rss_bytes():
         return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
 
 
+@pytest.mark.skipif(bool(os.environ.get("PCSIM_SANITIZED")),
+                    reason="under AddressSanitizer freed memory stays resident (its quarantine), so "
+                           "RSS measures nothing there; the Release build runs this test")
 def test_many_short_runs_do_not_grow_memory(pendulum, tmp_path):
     f = tmp_path / "bad.toml"
     f.write_text('[solver]\nrtol = "x"\n')
