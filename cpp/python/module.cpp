@@ -89,13 +89,13 @@ py::array_t<double> owned_matrix(std::vector<double>&& values, py::ssize_t cols)
                              heap->data(), owner);
 }
 
-/// An Eigen matrix or vector as a NumPy array (one contiguous copy, row-major for a matrix).
-py::array_t<double> to_array(const Eigen::MatrixXd& m) {
-  py::array_t<double> a({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
-  auto r = a.mutable_unchecked<2>();
-  for (Eigen::Index i = 0; i < m.rows(); ++i)
-    for (Eigen::Index j = 0; j < m.cols(); ++j) r(i, j) = m(i, j);
-  return a;
+/// An Eigen matrix or vector as a NumPy array: one memcpy of the contiguous block (a matrix
+/// in Eigen's column-major order, so a Fortran-ordered array).
+py::array to_array(const Eigen::MatrixXd& m) {
+  py::array_t<double, py::array::f_style> a(
+      {static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+  if (m.size()) std::memcpy(a.mutable_data(), m.data(), sizeof(double) * static_cast<std::size_t>(m.size()));
+  return std::move(a);
 }
 py::array_t<double> to_array(const Eigen::VectorXd& v) {
   py::array_t<double> a(static_cast<py::ssize_t>(v.size()));

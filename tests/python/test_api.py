@@ -23,6 +23,9 @@ def test_run_result_shape_and_columns(pendulum):
     assert res.data.shape == (6, len(res.columns)) and len(res) == 6
     assert res.data.dtype == np.float64 and res.data.flags["C_CONTIGUOUS"]
     np.testing.assert_allclose(res["t"], [0, 0.01, 0.02, 0.03, 0.04, 0.05], rtol=0, atol=1e-15)
+    # the table is the run's own buffer (owned by a capsule: NumPy did not allocate it), the
+    # same object on every access, and a column is a view of it, not a copy
+    assert not res.data.flags["OWNDATA"] and res.data is res.data
     # a column is a view of the table, not a copy
     col = res["tension"]
     assert col.base is not None and np.shares_memory(col, res.data)
