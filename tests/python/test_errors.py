@@ -175,3 +175,21 @@ def test_a_directory_of_another_command_is_refused(tmp_path, pendulum):
     with pytest.raises(pcsim.InputError):
         pendulum.run(out=out)
     assert (out / "mine.txt").read_text() == "a user's file"
+
+
+def test_an_unreliable_result_is_a_numerical_error_with_the_result(tmp_path, pcsim_exe):
+    # A pendulum moving 1e-4 m under atol = 1e-3: the run completes, the tolerance does not
+    # control it, and the CLI fails with exit 3 after writing it marked unreliable.
+    s = {"initial.x": 0.0001, "initial.y": -0.99999999500000003, "solver.atol": 1e-3,
+         "solver.t_end": 0.2}
+    model = ROOT / "models" / "pendulum.toml"
+    with pytest.raises(pcsim.NumericalError) as e:
+        pcsim.Case(model, set=s).run()
+    rc, message = cli_error(pcsim_exe, "run", model, *[a for k, v in s.items()
+                                                        for a in ("--set", f"{k}={v!r}")],
+                            "--out", tmp_path / "cli")
+    assert rc == 3
+    assert message.startswith(str(e.value)) and "wrote it to" in message
+    res = e.value.result
+    assert res.complete and res.summary["accuracy"]["reliable"] is False
+    assert res["t"][-1] == pytest.approx(0.2)
