@@ -14,7 +14,15 @@ with .file and .key), NumericalError (with .time and the .result computed up to 
 IoError (an OSError).
 """
 
+import sys as _sys
 from typing import Any, Optional
+
+try:
+    import numpy as _numpy  # noqa: F401  (the results are NumPy arrays)
+except ImportError as _e:  # e.g. a pyenv python3 first on PATH, without NumPy
+    raise ImportError(
+        f"pcsim needs NumPy, which {_sys.executable} does not have: use the interpreter pcsim was "
+        "built for (Debian: /usr/bin/python3 with python3-numpy)") from _e
 
 
 class Error(Exception):
