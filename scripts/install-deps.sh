@@ -14,6 +14,7 @@ PACKAGES=(
   libsiconos-numerics-dev
   libginac-dev
   libopenmpi-dev openmpi-bin
+  pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-dev
 )
 
 missing=()

@@ -38,12 +38,13 @@ constexpr int kMaxModalCoordinates = 200;
 // The time-series rows, the window extremes of every column, written as the run goes.
 class Monitor {
  public:
-  Monitor(int n, int n_out, double w0, double w1, double dt, double t_end, RowWriter* csv)
-      : n_(n), n_out_(n_out), w0_(w0), w1_(w1), dt_(dt), t_end_(t_end), csv_(csv),
-        maxima_(3 * n + n_out), minima_(3 * n + n_out), row_(3 * n + n_out + 3) {
-    // Rows only when they are written: run_case has then checked that there are at most
-    // kMaxOutputRows of them. Without a writer t_end / dt is unchecked (it may exceed a long).
-    if (csv_) {
+  Monitor(int n, int n_out, double w0, double w1, double dt, double t_end, RowWriter* csv,
+          std::vector<double>* keep = nullptr)
+      : n_(n), n_out_(n_out), w0_(w0), w1_(w1), dt_(dt), t_end_(t_end), csv_(csv), keep_(keep),
+        rows_(csv || keep), maxima_(3 * n + n_out), minima_(3 * n + n_out), row_(3 * n + n_out + 3) {
+    // Rows only when they are written or kept: run_case has then checked that there are at most
+    // kMaxOutputRows of them. Without rows t_end / dt is unchecked (it may exceed a long).
+    if (rows_) {
       last_row_ = static_cast<long>(std::floor(t_end / dt * (1 + 1e-12)));
       if (last_row_ * dt < t_end * (1 - 1e-12)) ++last_row_;
     }
@@ -62,14 +63,14 @@ class Monitor {
     if (v.t == v.t_prev) {  // the consistent initial state
       const mech::Sample s0 = v.at(v.t);
       if (w0_ <= v.t) offer(s0);
-      while (csv_ && next_row_ <= last_row_ && row_time(next_row_) <= v.t) {
+      while (rows_ && next_row_ <= last_row_ && row_time(next_row_) <= v.t) {
         add_row(s0);
         ++next_row_;
       }
       return true;
     }
     if (v.t > w0_) window(v);
-    while (csv_ && next_row_ <= last_row_ && row_time(next_row_) <= v.t * (1 + 1e-14)) {
+    while (rows_ && next_row_ <= last_row_ && row_time(next_row_) <= v.t * (1 + 1e-14)) {
       add_row(v.sample(std::min(std::max(row_time(next_row_), v.t_prev), v.t)));
       ++next_row_;
     }
@@ -139,7 +140,8 @@ class Monitor {
       for (std::size_t k = 0; k < modes_->size(); ++k)
         row_[static_cast<std::size_t>(columns() + 3) + k] = static_cast<double>((*modes_)[k]);
     }
-    csv_->add(row_.data());
+    if (csv_) csv_->add(row_.data());
+    if (keep_) keep_->insert(keep_->end(), row_.begin(), row_.end());
   }
 
  public:
@@ -151,6 +153,8 @@ class Monitor {
   int n_, n_out_;
   double w0_, w1_, dt_, t_end_;
   RowWriter* csv_;
+  std::vector<double>* keep_;
+  bool rows_;
   long next_row_ = 0, last_row_ = 0;
   std::vector<RunningMax> maxima_, minima_;  // minima hold the negated signal
   std::vector<double> s_, f_;
@@ -306,7 +310,7 @@ RunResult run_case(const Case& c, const RunOptions& options) {
   const std::string where = input_location(c.source);
 
   const double rows = std::floor(set.t_end / set.dt) + 2;
-  if ((options.out_dir || options.directory) && !(rows <= kMaxOutputRows))
+  if ((options.out_dir || options.directory || options.keep) && !(rows <= kMaxOutputRows))
     throw InputError(where + ": key 'output.dt': expected at most " +
                      format_number(kMaxOutputRows) + " time-series rows (solver.t_end / output.dt), "
                      "got " + format_significant(rows, 3) + " rows; raise output.dt");
@@ -361,7 +365,13 @@ RunResult run_case(const Case& c, const RunOptions& options) {
       labels.push_back(mech::to_string(m));  // index = the enumerator's value
     writer = std::make_unique<RowWriter>(csv, 3 * n + n_out + 3 + modes, modes, labels);
   }
-  Monitor mon(n, n_out, w0, w1, set.dt, set.t_end, writer.get());
+  if (options.keep) {
+    options.keep->rows.clear();
+    options.keep->events_csv.clear();
+    options.keep->partial.reset();
+  }
+  Monitor mon(n, n_out, w0, w1, set.dt, set.t_end, writer.get(),
+              options.keep ? &options.keep->rows : nullptr);
   std::unique_ptr<ClientMonitor> client_mon = c.client ? c.client->monitor(c, set) : nullptr;
 
   bool stopped_by_client = false;
@@ -449,6 +459,10 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     out->commit();
   } else if (dir) {
     writer->finish();
+  }
+  if (options.keep) {
+    if (set.contact.switching) options.keep->events_csv = events_csv(sres);
+    if (!complete) options.keep->partial = r;
   }
   if (complete && !unreliable.empty())
     throw UnreliableResult("case '" + c.name + "': the result is not reliable: " + unreliable +

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -28,6 +29,17 @@ namespace pcsim::sim {
 /// The most time-series rows a run writes; a case asking for more (output.dt against
 /// solver.t_end) is refused before any computation, naming output.dt and the row count.
 inline constexpr double kMaxOutputRows = 1e7;
+
+/// What a run keeps in memory for its caller (RunOptions::keep), the same values the files
+/// get: the time-series rows timeseries.csv holds, row-major (timeseries_columns(c) numbers a
+/// row; a switching run's mode columns as indices of mech::ContactMode), events.csv's text
+/// (with contact.switching), and the result of a run that failed (the summary.json written
+/// with "complete": false), which the exception does not carry.
+struct Kept {
+  std::vector<double> rows;
+  std::string events_csv;
+  std::optional<RunResult> partial;
+};
 
 /// How to run a case: where to write, and the internal options of pcsim's own callers.
 struct RunOptions {
@@ -51,6 +63,8 @@ struct RunOptions {
   /// writes timeseries.csv into this directory, which the caller owns and commits, instead of
   /// out_dir (summary.json is then the caller's to write).
   OutputDirectory* directory = nullptr;
+  /// Internal (the Python module, cpp/python): also keeps in memory what the files hold.
+  Kept* keep = nullptr;
 };
 
 /// The fewest integration steps that any method can take over `duration` s of a model's

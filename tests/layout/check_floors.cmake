@@ -6,7 +6,9 @@
 # application: it may include everything up to the case layer and itself, not another
 # application, and its cli/ subfolder (its commands, compiled into the executable) stands on
 # the command line's floor. The one application built on another is the sieve's incline study
-# (cpp/sieve/incline, its own library on the generic sweep of the studies).
+# (cpp/sieve/incline, its own library on the generic sweep of the studies). The Python module
+# (python) is a top floor beside the command line: it may include the case layer and every
+# application, and nothing includes it.
 # Run: cmake -DSOURCE_DIR=<repo> -P tests/layout/check_floors.cmake
 cmake_minimum_required(VERSION 3.22)
 set(numerics common linalg ode lcp)
@@ -18,7 +20,7 @@ set(allowed_mech      ${numerics} mech)
 set(allowed_modelfile ${numerics} mech modelfile)
 set(allowed_sim       ${numerics} mech modelfile sim)
 set(below_applications ${allowed_sim})
-set(lower_floors common linalg ode lcp mech modelfile sim cli)
+set(lower_floors common linalg ode lcp mech modelfile sim cli python)
 
 file(GLOB folders LIST_DIRECTORIES true RELATIVE "${SOURCE_DIR}/cpp" "${SOURCE_DIR}/cpp/*")
 set(applications "")
@@ -31,6 +33,7 @@ foreach(app IN LISTS applications)
   set(allowed_${app} ${below_applications} ${app})
 endforeach()
 set(allowed_cli ${below_applications} ${applications} cli)
+set(allowed_python ${below_applications} ${applications} python)
 set(allowed_sieve/incline ${below_applications} sieve study)
 
 set(failures "")
