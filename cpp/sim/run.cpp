@@ -325,6 +325,9 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     const auto cols = timeseries_columns(c);
     for (std::size_t i = 0; i < cols.size(); ++i) h += (i ? "," : "") + cols[i];
     h += '\n';
+    // The model the run ran, as a model file (issue 26: pcsim animate draws it from there).
+    const std::string model_text = source.definition_text();
+    if (!model_text.empty()) dir->write("model.toml", model_text);
   }
 
   std::shared_ptr<const mech::Model> model =
