@@ -427,16 +427,22 @@ struct DrawEvaluator::Impl {
   Program period;
   bool has_period = false;
   std::vector<std::pair<std::string, double>> defaults;
+  std::vector<std::string> names;
   mutable std::vector<double> stack;
   mutable std::mutex mutex;  // the stack
 };
 
-DrawEvaluator::DrawEvaluator(const std::filesystem::path& model_file, const std::vector<std::string>& names)
+DrawEvaluator::DrawEvaluator(const std::filesystem::path& model_file)
     : impl_(std::make_unique<Impl>()) {
   Impl& im = *impl_;
   im.src = detail::load_model_source(model_file);
   const ModelSource& src = im.src;
   for (const auto& p : src.parameters) im.defaults.push_back({p.name, p.value});
+  std::vector<std::string>& names = im.names;
+  names.push_back("t");
+  for (const auto& c : src.coordinates) names.push_back(c);
+  for (const auto& c : src.coordinates) names.push_back(c + "_d");
+  for (const auto& p : src.parameters) names.push_back(p.name);
   std::map<std::string, int> inputs;
   for (std::size_t i = 0; i < names.size(); ++i) inputs[names[i]] = static_cast<int>(i);
   std::lock_guard<std::mutex> lock(detail::ginac_mutex());
@@ -487,6 +493,7 @@ const std::vector<std::string>& DrawEvaluator::coordinates() const { return impl
 const std::vector<std::pair<std::string, double>>& DrawEvaluator::parameter_defaults() const {
   return impl_->defaults;
 }
+const std::vector<std::string>& DrawEvaluator::input_names() const { return impl_->names; }
 std::size_t DrawEvaluator::size() const { return impl_->programs.size(); }
 
 double DrawEvaluator::period(const std::vector<double>& inputs) const {

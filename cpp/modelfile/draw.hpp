@@ -51,16 +51,18 @@ struct DrawSpec {
 /// parameters), evaluated without GiNaC (so from any thread, fast enough for every row of a run).
 class DrawEvaluator {
  public:
-  /// `names`: the inputs, in order (e.g. "t", "x", "x_d", ..., the parameter names). Throws
-  /// InputError naming the model file and the key for an expression that does not parse or
-  /// uses a name outside `names` and the model's definitions.
-  DrawEvaluator(const std::filesystem::path& model_file, const std::vector<std::string>& names);
+  /// Reads the model file and compiles its drawing over the inputs input_names(): t, the
+  /// coordinates, their velocities <name>_d, then the parameters (file order). Throws
+  /// InputError naming the model file and the key for a bad file, or a drawing expression that
+  /// does not parse or uses a definition that needs what a drawing has not (accelerations).
+  explicit DrawEvaluator(const std::filesystem::path& model_file);
   ~DrawEvaluator();
   DrawEvaluator(DrawEvaluator&&) noexcept;
 
   const DrawSpec& spec() const;
   const std::string& model_name() const;
   const std::vector<std::string>& coordinates() const;
+  const std::vector<std::string>& input_names() const;
   /// The model's parameters with their defaults, in file order.
   const std::vector<std::pair<std::string, double>>& parameter_defaults() const;
   /// The model's excitation period for these inputs (NaN without [model] period).
