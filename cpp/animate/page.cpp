@@ -294,7 +294,7 @@ function draw() {
   window.pcsimLast = state;
   document.getElementById("pcsim-state").textContent = JSON.stringify(state);
 }
-function fmt(v) { return v === null || v === undefined ? "n/a" : Number(v).toPrecision(4).replace(/\.?0+(e|$)/, "$1"); }
+function fmt(v) { return v === null || v === undefined ? "n/a" : String(Number(Number(v).toPrecision(4))); }
 window.pcsimState = () => window.pcsimLast;
 function drawTimeline() {
   const W = tl.width, H = tl.height, t0 = D.t[0], t1 = D.t[F - 1], span = Math.max(1e-300, t1 - t0);

@@ -88,9 +88,10 @@ Table read_table(const fs::path& f, const std::string& half_written) {
         ++k;
         continue;
       }
+      if (fields[i].empty()) continue;  // a value the run has not (fstar in flight): NaN
       char* end = nullptr;
       row[i] = std::strtod(fields[i].c_str(), &end);
-      if (fields[i].empty() || *end != '\0')
+      if (*end != '\0')
         throw InputError(f.string() + ":" + std::to_string(line_no) + ": column '" + t.header[i] +
                          "': expected a number, got '" + fields[i].substr(0, 40) + "'");
     }
@@ -259,9 +260,21 @@ Scene read_scene(const fs::path& dir, int max_frames) {
     }
     std::vector<double> m(M);
     for (std::size_t k = 0; k < M; ++k) m[k] = (prefix[b * M + k] - prefix[a * M + k]) / double(b - a);
+    std::vector<double> v(all.begin() + static_cast<std::ptrdiff_t>(r * K), all.begin() + static_cast<std::ptrdiff_t>((r + 1) * K));
+    // A point that follows another moves with the other's magnified displacement, at its true
+    // offset from it: its mean is the leader's plus the offset, its deviation the leader's.
+    for (std::size_t i = 0; i < P; ++i) {
+      const int j = s.spec.points[i].follows;
+      if (j < 0) continue;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t a_i = 3 * i + k, a_j = 3 * static_cast<std::size_t>(j) + k;
+        m[a_i] = m[a_j] + (v[a_i] - v[a_j]);
+        v[a_i] = m[a_i] + (v[a_j] - m[a_j]);
+      }
+    }
     s.t.push_back(times[r]);
     s.row.push_back(r);
-    s.values.emplace_back(all.begin() + static_cast<std::ptrdiff_t>(r * K), all.begin() + static_cast<std::ptrdiff_t>((r + 1) * K));
+    s.values.push_back(std::move(v));
     s.mean.push_back(std::move(m));
     std::vector<double> f;
     for (int c : force_col) f.push_back(table.numbers[r][static_cast<std::size_t>(c)]);

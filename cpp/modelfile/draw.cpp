@@ -85,7 +85,7 @@ class DrawReader {
       for (const auto& e : arr) {
         const std::string key = prefix_ + ".point[" + std::to_string(++i) + "]";
         const toml::table& pt = table(e, key);
-        only(pt, key, {"name", "x", "y", "z"});
+        only(pt, key, {"name", "x", "y", "z", "follows"});
         const toml::node* nm = pt.get("name");
         if (!nm || !nm->as_string())
           fail(where_, key + ".name", "the point's name (a string: tests and the page find points by it)");
@@ -96,6 +96,12 @@ class DrawReader {
         DrawPoint dp = coordinates(pt, prefix_ + ".point[" + name + "]");
         dp.name = name;
         dp.named = true;
+        if (auto f = pt.get("follows")) {
+          dp.follows = f->as_string() ? point_index(f->as_string()->get()) : -1;
+          if (dp.follows < 0)
+            fail(where_, key + ".follows", "the name of a point declared above this one (its magnified "
+                                           "displacement carries this point at its true offset)");
+        }
         d.points.push_back(dp);
       }
     }

@@ -18,6 +18,9 @@ struct DrawPoint {
   std::string name;
   bool named = true;
   std::string x, y, z;  ///< expressions as written; z "" in a planar drawing
+  /// `follows = "P"`: magnified displacements move this point with the earlier named point P,
+  /// at its true offset from P (an eccentric mass on its axis, a spoke on its wheel); -1: none.
+  int follows = -1;
 };
 
 /// One shape of a drawing.
