@@ -14,6 +14,8 @@ PACKAGES=(
   libsiconos-numerics-dev
   libginac-dev
   libopenmpi-dev openmpi-bin
+  chromium
+  ffmpeg
 )
 
 missing=()

@@ -139,3 +139,23 @@ BOOST_AUTO_TEST_CASE(a_switching_run_shows_the_contact_mode_of_the_time_series) 
     BOOST_TEST(std::abs(s["points"]["bottom"][1].get<double>() - run.series.col.at("y")[r]) <= pixel(s));
   }
 }
+
+// A spatial drawing (view = "3d"): the page orbits a camera around it; the bob is drawn at
+// (x, y, z) of the time series, and turning the camera moves its pixel but not its position.
+BOOST_AUTO_TEST_CASE(a_spatial_drawing_is_drawn_in_3d_where_the_time_series_puts_it) {
+  BOOST_TEST_REQUIRE(fs::exists(chromium()));
+  Run run("spherical", "tests/animate/spherical_pendulum_case.toml", "");
+  const nlohmann::json a = page_state(run.page(), "t=0.7&mag=1&az=0.3", run.scratch.path);
+  const nlohmann::json b = page_state(run.page(), "t=0.7&mag=1&az=1.3", run.scratch.path);
+  BOOST_TEST_REQUIRE((a.is_object() && b.is_object()));
+  const std::size_t r = run.series.row_at(a["t"].get<double>());
+  const auto& c = run.series.col;
+  BOOST_TEST_REQUIRE(a["points"]["bob"].size() == 3u);
+  BOOST_TEST(std::abs(a["points"]["bob"][0].get<double>() - c.at("x")[r]) <= 1e-6);
+  BOOST_TEST(std::abs(a["points"]["bob"][1].get<double>() - c.at("y")[r]) <= 1e-6);
+  BOOST_TEST(std::abs(a["points"]["bob"][2].get<double>() - c.at("z")[r]) <= 1e-6);
+  BOOST_TEST(a["points"]["bob"] == b["points"]["bob"]);
+  const double moved = std::hypot(a["pixels"]["bob"][0].get<double>() - b["pixels"]["bob"][0].get<double>(),
+                                  a["pixels"]["bob"][1].get<double>() - b["pixels"]["bob"][1].get<double>());
+  BOOST_TEST(moved > 10.0);
+}
