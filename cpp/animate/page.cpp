@@ -291,6 +291,9 @@ function draw() {
   const state = {t: D.t[f], frame: f, frames: F, magnify: mag, pixels_per_unit: scale, points: named, pixels: pixels,
                  forces: Object.fromEntries(D.shapes.filter(s => s.kind === "arrow").map(s => [s.force, D.f[f][s.f]])),
                  modes: Object.fromEntries(D.contacts.map((c, k) => [c, D.modes[f][k]]))};
+  // The time from the navigation's start to the first drawn frame (what "opens in" means).
+  if (window.pcsimOpenedMs === undefined) window.pcsimOpenedMs = performance.now();
+  state.opened_ms = window.pcsimOpenedMs;
   window.pcsimLast = state;
   document.getElementById("pcsim-state").textContent = JSON.stringify(state);
 }
