@@ -45,6 +45,10 @@ const std::map<char, unsigned> kGlyphs = {
     {'+', 0x05D0}, {'e', 0x0FE7}, {'t', 0x2E93}, {'s', 0x388E}, {'x', 0x0AA8}, {'=', 0x0E38},
     {' ', 0x0000}};
 
+// A pixel coordinate as an int, clamped first (a magnified point may lie far outside the frame,
+// and converting a double beyond int's range is undefined).
+int pix(double v) { return static_cast<int>(std::clamp(v, -1e6, 1e6)); }
+
 }  // namespace
 
 Rasterizer::Rasterizer(const Scene& s, int width, int height, double magnify)
@@ -132,10 +136,10 @@ const std::vector<unsigned char>& Rasterizer::draw(std::size_t f) {
   auto segment = [&](std::array<double, 2> a, std::array<double, 2> b, double width, Rgb c) {
     if (!(std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(b[0]) && std::isfinite(b[1]))) return;
     const double hw = width / 2;
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min(a[0], b[0]) - hw - 1)));
-    const int x1 = std::min(w_ - 1, static_cast<int>(std::ceil(std::max(a[0], b[0]) + hw + 1)));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min(a[1], b[1]) - hw - 1)));
-    const int y1 = std::min(h_ - 1, static_cast<int>(std::ceil(std::max(a[1], b[1]) + hw + 1)));
+    const int x0 = std::max(0, pix(std::floor(std::min(a[0], b[0]) - hw - 1)));
+    const int x1 = std::min(w_ - 1, pix(std::ceil(std::max(a[0], b[0]) + hw + 1)));
+    const int y0 = std::max(0, pix(std::floor(std::min(a[1], b[1]) - hw - 1)));
+    const int y1 = std::min(h_ - 1, pix(std::ceil(std::max(a[1], b[1]) + hw + 1)));
     const double dx = b[0] - a[0], dy = b[1] - a[1], L2 = dx * dx + dy * dy;
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
@@ -148,8 +152,8 @@ const std::vector<unsigned char>& Rasterizer::draw(std::size_t f) {
   auto ring = [&](std::array<double, 2> c, double r, double width, Rgb col, bool fill, Rgb fc) {
     if (!(std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(r))) return;
     const double hw = width / 2;
-    const int x0 = std::max(0, static_cast<int>(c[0] - r - hw - 1)), x1 = std::min(w_ - 1, static_cast<int>(c[0] + r + hw + 1));
-    const int y0 = std::max(0, static_cast<int>(c[1] - r - hw - 1)), y1 = std::min(h_ - 1, static_cast<int>(c[1] + r + hw + 1));
+    const int x0 = std::max(0, pix(c[0] - r - hw - 1)), x1 = std::min(w_ - 1, pix(c[0] + r + hw + 1));
+    const int y0 = std::max(0, pix(c[1] - r - hw - 1)), y1 = std::min(h_ - 1, pix(c[1] + r + hw + 1));
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         const double d = std::hypot(x + 0.5 - c[0], y + 0.5 - c[1]);
@@ -163,8 +167,8 @@ const std::vector<unsigned char>& Rasterizer::draw(std::size_t f) {
       if (!(std::isfinite(p[0]) && std::isfinite(p[1]))) return;
       xl = std::min(xl, p[0]), xh = std::max(xh, p[0]), yl = std::min(yl, p[1]), yh = std::max(yh, p[1]);
     }
-    for (int y = std::max(0, static_cast<int>(yl)); y <= std::min(h_ - 1, static_cast<int>(yh) + 1); ++y)
-      for (int x = std::max(0, static_cast<int>(xl)); x <= std::min(w_ - 1, static_cast<int>(xh) + 1); ++x) {
+    for (int y = std::max(0, pix(yl)); y <= std::min(h_ - 1, pix(yh) + 1); ++y)
+      for (int x = std::max(0, pix(xl)); x <= std::min(w_ - 1, pix(xh) + 1); ++x) {
         bool in = false;
         const double px = x + 0.5, py = y + 0.5;
         for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++)
@@ -247,7 +251,7 @@ void write_video(const Scene& scene, const fs::path& file, const VideoOptions& o
   double speed = o.speed;
   const double needed = (t1 - t0) / speed * o.fps;
   if (needed > o.max_frames) speed = (t1 - t0) * o.fps / o.max_frames;  // at most max_frames
-  const int frames = std::max(1, static_cast<int>(std::floor((t1 - t0) / speed * o.fps)) + 1);
+  const int frames = std::max(1, pix(std::floor((t1 - t0) / speed * o.fps)) + 1);
   Rasterizer raster(scene, o.width, o.height, o.magnify > 0 ? o.magnify : scene.magnify);
   const bool gif = file.extension() == ".gif";
   const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");

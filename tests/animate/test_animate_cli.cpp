@@ -240,3 +240,18 @@ BOOST_AUTO_TEST_CASE(the_video_rasterizer_draws_points_where_the_page_does) {
   }
   BOOST_TEST(rgb[(5 * 1000 + 995) * 3] == 255);  // a corner stays white
 }
+
+// pcsim steady writes one period of the orbit: its page loops that period.
+BOOST_AUTO_TEST_CASE(a_steady_state_animates_as_one_looped_period, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
+  pcsim_test::TempDir scratch("animate_steady");
+  const fs::path w = scratch.path;
+  Result r = run_pcsim("steady '" + (kSource / "cases/sieve_1995.toml").string() + "' --out steady", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  r = run_pcsim("animate steady", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  const std::string html = pcsim_test::read(w / "steady" / "animation.html");
+  BOOST_TEST(pcsim_test::has(html, "\"steady\":true"));
+  const pcsim::animate::Scene s = pcsim::animate::read_scene(w / "steady", 2000);
+  BOOST_TEST(s.steady);
+  BOOST_TEST(std::abs((s.t.back() - s.t.front()) - 2 * M_PI / 280.0) < 1e-9);  // one excitation period
+}
