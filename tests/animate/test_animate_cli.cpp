@@ -195,6 +195,9 @@ BOOST_AUTO_TEST_CASE(video_writes_the_named_file_and_refuses_a_file_pcsim_did_no
   // pcsim's own video in the run directory is replaced; a user's file never
   r = run_pcsim("animate run --video run/animation.gif --fps 10", w);
   BOOST_TEST(r.status == 0, r.out);
+  r = run_pcsim("animate run --video run/clip.mp4", w);  // not a name pcsim writes in a run
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(!fs::exists(w / "run" / "clip.mp4"));
   std::ofstream(w / "mine.mp4") << "my video";
   r = run_pcsim("animate run --video mine.mp4", w);
   BOOST_TEST(r.status == 2, r.out);

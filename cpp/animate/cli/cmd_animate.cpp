@@ -43,11 +43,15 @@ void check_video_path(const fs::path& file, const fs::path& run_dir) {
   if (!fs::is_directory(parent, ec))
     throw pcsim::InputError("--video " + f + ": the directory " + parent.string() +
                             " does not exist (pcsim writes the file you name, and nothing else)");
+  const bool in_run = fs::equivalent(parent, run_dir, ec);
+  const bool own_name = file.filename() == "animation.mp4" || file.filename() == "animation.gif";
+  if (in_run && !own_name)
+    throw pcsim::InputError("--video " + f + ": in a run directory pcsim writes only animation.mp4 "
+                            "or animation.gif (a run replaces its directory whole); name one of "
+                            "those or a file elsewhere");
   const auto st = fs::symlink_status(file, ec);
   if (!fs::exists(st)) return;
-  const bool own = fs::is_regular_file(st) &&
-                   (file.filename() == "animation.mp4" || file.filename() == "animation.gif") &&
-                   fs::equivalent(parent, run_dir, ec);
+  const bool own = fs::is_regular_file(st) && own_name && in_run;
   if (!own)
     throw pcsim::InputError("--video " + f + ": the file exists and pcsim did not write it (pcsim "
                             "replaces only its own DIR/animation.mp4 or DIR/animation.gif); "
