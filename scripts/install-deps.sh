@@ -15,6 +15,8 @@ PACKAGES=(
   libginac-dev
   libopenmpi-dev openmpi-bin
   pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-dev
+  chromium
+  ffmpeg
 )
 
 missing=()

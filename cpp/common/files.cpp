@@ -207,7 +207,10 @@ bool pcsim_writes(const std::string& command, const std::string& name) {
     return false;
   };
   // pcsim plot's figures and script live in the directory they plot.
-  const bool plot = name == "plots.gp" || (ends_with(name, ".png") && name[0] != '.');
+  const bool plot = name == "plots.gp" || (ends_with(name, ".png") && name[0] != '.') ||
+                    // the model it ran, and pcsim animate's page and video (issue 26)
+                    name == "model.toml" || name == "animation.html" || name == "animation.mp4" ||
+                    name == "animation.gif";
   if (command == "run") return plot || one_of({"summary.json", "timeseries.csv", "events.csv"});
   if (command == "steady") return plot || one_of({"steady.json", "timeseries.csv", "events.csv"});
   if (command == "response") return plot || one_of({"response.csv", "response.json"});

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
+#include <functional>
 #include <vector>
 
 #include <fcntl.h>
@@ -51,23 +52,30 @@ std::optional<fs::path> find_on_path(const std::string& program) {
   return std::nullopt;
 }
 
-int run_gnuplot(const fs::path& dir, const std::string& script, const std::string& stderr_file) {
-  const auto program = find_on_path("gnuplot");
-  if (!program) throw std::runtime_error("gnuplot is not on PATH");
+int run_program(const fs::path& program, const std::vector<std::string>& args, const fs::path& dir,
+                const std::function<void(const std::function<bool(const char*, std::size_t)>&)>& feed,
+                const std::string& stderr_file) {
   // Everything the child needs is prepared before fork: between fork and exec it calls only
   // async-signal-safe functions.
-  const std::string prog = program->string(), where = dir.empty() ? "." : dir.string();
-  std::vector<char> arg0(prog.begin(), prog.end());
-  arg0.push_back('\0');
-  char* argv[] = {arg0.data(), nullptr};
+  const std::string prog = program.string(), where = dir.empty() ? "." : dir.string();
+  std::vector<std::vector<char>> store;
+  store.emplace_back(prog.begin(), prog.end());
+  for (const auto& a : args) store.emplace_back(a.begin(), a.end());
+  std::vector<char*> argv;
+  for (auto& a : store) {
+    a.push_back('\0');
+    argv.push_back(a.data());
+  }
+  argv.push_back(nullptr);
+  const std::string name = program.filename().string();
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("cannot start gnuplot: ") + std::strerror(errno));
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("cannot start " + name + ": " + std::strerror(errno));
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int err = errno;
     ::close(fds[0]);
     ::close(fds[1]);
-    throw std::runtime_error(std::string("cannot start gnuplot: ") + std::strerror(err));
+    throw std::runtime_error("cannot start " + name + ": " + std::strerror(err));
   }
   if (pid == 0) {
     if (::chdir(where.c_str()) != 0) ::_exit(126);
@@ -76,20 +84,37 @@ int run_gnuplot(const fs::path& dir, const std::string& script, const std::strin
       const int e = ::open(stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW, 0644);
       if (e < 0 || ::dup2(e, 2) < 0) ::_exit(126);
     }
-    ::execv(argv[0], argv);
+    ::execv(argv[0], argv.data());
     ::_exit(127);
   }
   ::close(fds[0]);
-  // gnuplot may stop reading (an error): a write then fails with EPIPE instead of SIGPIPE.
+  // The program may stop reading (an error): a write then fails with EPIPE instead of SIGPIPE.
   struct sigaction ignore{}, old{};
   ignore.sa_handler = SIG_IGN;
   ::sigaction(SIGPIPE, &ignore, &old);
-  std::size_t off = 0;
-  while (off < script.size()) {
-    const ssize_t n = ::write(fds[1], script.data() + off, script.size() - off);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    off += static_cast<std::size_t>(n);
+  bool all_written = true;
+  auto write_all = [&](const char* data, std::size_t size) {
+    std::size_t off = 0;
+    while (off < size) {
+      const ssize_t n = ::write(fds[1], data + off, size - off);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        all_written = false;
+        return false;
+      }
+      off += static_cast<std::size_t>(n);
+    }
+    return true;
+  };
+  try {
+    feed(write_all);
+  } catch (...) {
+    ::close(fds[1]);
+    ::sigaction(SIGPIPE, &old, nullptr);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    throw;
   }
   ::close(fds[1]);
   ::sigaction(SIGPIPE, &old, nullptr);
@@ -97,8 +122,18 @@ int run_gnuplot(const fs::path& dir, const std::string& script, const std::strin
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return -1;
   if (!WIFEXITED(status)) return -1;
-  if (off < script.size() && WEXITSTATUS(status) == 0) return 1;
+  if (!all_written && WEXITSTATUS(status) == 0) return 1;
   return WEXITSTATUS(status);
+}
+
+int run_gnuplot(const fs::path& dir, const std::string& script, const std::string& stderr_file) {
+  const auto program = find_on_path("gnuplot");
+  if (!program) throw std::runtime_error("gnuplot is not on PATH");
+  return run_program(*program, {}, dir,
+                     [&](const std::function<bool(const char*, std::size_t)>& write) {
+                       write(script.data(), script.size());
+                     },
+                     stderr_file);
 }
 
 }  // namespace pcsim

@@ -5,8 +5,10 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace pcsim {
 
@@ -23,6 +25,18 @@ std::string gnuplot_number(double v);
 
 /// The full path of `program` on PATH (an executable regular file), if any.
 std::optional<std::filesystem::path> find_on_path(const std::string& program);
+
+/// Runs `program` (a full path) with the arguments `args` (an argument vector: fork and execv,
+/// never a shell) in the working directory `dir`; `feed` is called once with a writer to the
+/// program's standard input (it returns false once the program stops reading) and may stream
+/// any amount through it. Standard error goes to `stderr_file` (relative to `dir`) when not
+/// empty. Returns the exit status (-1 if the program did not exit normally; 1 if it stopped
+/// reading but exited 0); throws std::runtime_error if it cannot be started. gnuplot and
+/// ffmpeg (pcsim animate --video) run through it.
+int run_program(const std::filesystem::path& program, const std::vector<std::string>& args,
+                const std::filesystem::path& dir,
+                const std::function<void(const std::function<bool(const char*, std::size_t)>&)>& feed,
+                const std::string& stderr_file = "");
 
 /// Runs `gnuplot` (found on PATH) with the working directory `dir`, feeding it `script` on its
 /// standard input; its standard error goes to `stderr_file` (relative to `dir`) when not empty,

@@ -325,7 +325,7 @@ ModelSource detail::read_model_source(const toml::table& model,
   src.prefix = prefix;
   const Reader r(src.where, prefix);
   r.only(model, prefix, {"name", "coordinates", "parameters", "define", "energy", "forces",
-                         "constraint", "outputs", "period", "slow"});
+                         "constraint", "outputs", "period", "slow", "draw"});
 
   if (auto n = model.get("name")) {
     src.name = r.string(*n, r.key("name"), "a string (the model name)");
@@ -495,6 +495,7 @@ ModelSource detail::read_model_source(const toml::table& model,
     }
   }
   check_unique_names(src);
+  if (auto n = model.get("draw")) detail::read_draw_table(*n, src);
   return src;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "modelfile/draw.hpp"
 #include "modelfile/model_file.hpp"
 
 namespace pcsim::modelfile::detail {
@@ -50,11 +51,15 @@ struct ModelSource {
   std::vector<std::pair<std::string, ExprText>> outputs;  ///< in file order
   std::optional<ExprText> period;
   std::vector<std::string> slow;
+  DrawSpec draw;  ///< [model.draw] (issue 26); empty when the file has none
 };
 
 /// Reads a [model] table (names checked, nothing parsed yet). Throws InputError.
 ModelSource read_model_source(const toml::table& model, const std::filesystem::path& source,
                               const std::string& prefix);
+/// Reads [model.draw] into src.draw (after the rest of the table: it names coordinates,
+/// parameters, definitions, outputs and constraints). Throws InputError.
+void read_draw_table(const toml::node& node, ModelSource& src);
 /// Reads a model file's [model] table. Throws InputError.
 ModelSource load_model_source(const std::filesystem::path& file);
 /// The same from the file's text (`file` names it in messages).

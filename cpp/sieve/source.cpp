@@ -8,6 +8,7 @@
 #include "common/error.hpp"
 #include "sieve/run.hpp"
 #include "sim/client.hpp"
+#include "sim/builtin_models.hpp"
 #include "sim/file_source.hpp"
 
 namespace pcsim::sieve {
@@ -65,6 +66,9 @@ class SieveSource final : public sim::ModelSource {
   std::vector<std::string> slow_coordinates() const override {
     return sim::embedded_description("sieve_1995")->slow_coordinates();
   }
+  // The drawing of a run (model.toml, for pcsim animate): the paper's model file; its run-up
+  // variant has the same coordinates and drawing.
+  std::string definition_text() const override { return sim::embedded_model_text("sieve_1995"); }
   // The paper's model as a model file (models/sieve_1995.toml, embedded), T (3.4) and Q
   // (3.4a)-(3.4f) with the errata, derived symbolically and evaluated from a flat tape; with
   // t_runup > 0 its exciter run-up (models/sieve_1995_runup.toml). (The C++ forms of the same

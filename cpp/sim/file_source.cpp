@@ -42,8 +42,9 @@ std::string fnv1a(const std::string& text) {
 class FileModelSource final : public ModelSource {
  public:
   FileModelSource(std::shared_ptr<const modelfile::ModelDescription> d, std::string origin,
-                  std::string fingerprint)
-      : d_(std::move(d)), origin_(std::move(origin)), fingerprint_(std::move(fingerprint)) {
+                  std::string fingerprint, std::string text)
+      : d_(std::move(d)), origin_(std::move(origin)), fingerprint_(std::move(fingerprint)),
+        text_(std::move(text)) {
     for (const auto& p : d_->parameters()) parameters_.push_back(parameter_spec(p));
     for (const auto& c : d_->constraints())
       constraints_.push_back({c.name, c.kind, c.active_by_default, "", c.unilateral, c.friction});
@@ -59,6 +60,7 @@ class FileModelSource final : public ModelSource {
   const std::vector<std::string>& outputs() const override { return outputs_; }
   double period(const ParameterValues& p) const override { return d_->period(p); }
   std::vector<std::string> slow_coordinates() const override { return d_->slow_coordinates(); }
+  std::string definition_text() const override { return text_; }
 
   std::shared_ptr<const ModelSource> with_added_constraints(
       const std::vector<AddedConstraint>& added, const std::string& where) const override {
@@ -74,7 +76,7 @@ class FileModelSource final : public ModelSource {
       key_text += "\n[added] " + a.name + " = " + a.holonomic;
     }
     return std::make_shared<const FileModelSource>(d_->with_constraints(extra), origin_,
-                                                   fnv1a(fingerprint_ + key_text));
+                                                   fnv1a(fingerprint_ + key_text), text_);
   }
 
   std::shared_ptr<const mech::Model> instantiate(const ParameterValues& parameters,
@@ -90,7 +92,7 @@ class FileModelSource final : public ModelSource {
 
  private:
   std::shared_ptr<const modelfile::ModelDescription> d_;
-  std::string origin_, fingerprint_;
+  std::string origin_, fingerprint_, text_;
   std::vector<ParameterSpec> parameters_;
   std::vector<ConstraintOffer> constraints_;
   std::vector<std::string> outputs_;
@@ -102,7 +104,7 @@ std::shared_ptr<const ModelSource> make_file_model_source(
     std::shared_ptr<const modelfile::ModelDescription> description, std::string origin,
     const std::string& text) {
   return std::make_shared<const FileModelSource>(std::move(description), std::move(origin),
-                                                 fnv1a(text));
+                                                 fnv1a(text), text);
 }
 
 const char* embedded_model_text(const std::string& file_stem) {
@@ -150,7 +152,13 @@ std::shared_ptr<const ModelSource> load_inline_model(const toml::table& model,
   std::ostringstream text;
   text << model;
   auto d = modelfile::parse_model_table(model, case_file, "model");
-  return make_file_model_source(std::move(d), "model of " + case_file.string(), text.str());
+  // The same table as a model file of its own (model.toml of a run): [model] around it.
+  toml::table file;
+  file.insert("model", model);
+  std::ostringstream as_file;
+  as_file << file << "\n";
+  return std::make_shared<const FileModelSource>(std::move(d), "model of " + case_file.string(),
+                                                 fnv1a(text.str()), as_file.str());
 }
 
 }  // namespace pcsim::sim

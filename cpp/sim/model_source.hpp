@@ -71,6 +71,9 @@ class ModelSource {
   /// The model's slow coordinates ([model] slow): held at their value by `pcsim steady` and by
   /// the static equilibrium (docs/steady.md). Default: none.
   virtual std::vector<std::string> slow_coordinates() const { return {}; }
+  /// The model as a model file's text ([model] table; "" if it has none): a run writes it to
+  /// model.toml beside its results, so `pcsim animate` draws the model the run ran.
+  virtual std::string definition_text() const { return ""; }
 
   /// The same model with holonomic constraints added; throws pcsim::InputError (naming `where`
   /// and the constraint) if this model cannot take them or an expression is bad.

@@ -329,6 +329,13 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     const auto cols = timeseries_columns(c);
     for (std::size_t i = 0; i < cols.size(); ++i) h += (i ? "," : "") + cols[i];
     h += '\n';
+    // The model the run ran, as a model file (issue 26: pcsim animate draws it from there).
+    const std::string model_text = source.definition_text();
+    if (!model_text.empty()) {
+      std::string origin = source.origin();  // first line: where it came from (for messages)
+      std::replace_if(origin.begin(), origin.end(), [](char ch) { return ch == '\n' || ch == '\r'; }, ' ');
+      dir->write("model.toml", "# pcsim run: the " + origin + "\n" + model_text);
+    }
   }
 
   std::shared_ptr<const mech::Model> model =

@@ -72,6 +72,17 @@ inline std::string pendulum_chain_toml(int N) {
          k + "_d^2 + m*g*y" + k;
   }
   s += "\"\"\"   # J, the total mechanical energy (conserved)\n";
+  // The drawing (pcsim animate): the pivot, the bottom end of each link, the chain through them.
+  s += "\n[model.draw]\n";
+  s += "[[model.draw.point]]\nname = \"pivot\"\nx = 0\ny = 0\n";
+  for (int i = 1; i <= N; ++i) {
+    const std::string k = std::to_string(i);
+    s += "[[model.draw.point]]\nname = \"end" + k + "\"\nx = \"x" + k + " + h*sin(th" + k +
+         ")\"\ny = \"y" + k + " - h*cos(th" + k + ")\"\n";
+  }
+  s += "[[model.draw.line]]\npoints = [\"pivot\"";
+  for (int i = 1; i <= N; ++i) s += std::string(i % 10 == 1 ? ",\n  " : ", ") + "\"end" + std::to_string(i) + "\"";
+  s += "]\n";
   return s;
 }
 

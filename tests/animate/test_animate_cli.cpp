@@ -1,0 +1,260 @@
+// pcsim animate as a user runs it: every case in cases/ animates after pcsim run; bad input
+// (not a directory, not a run, a failed or half-written run, a run being written, a model with
+// nothing to draw) exits 2 and writes nothing; --video writes the named file (mp4 or gif) and
+// refuses a file pcsim did not write; the video's rasterizer puts points where the page does.
+#define BOOST_TEST_MODULE animate_cli
+#include <boost/test/unit_test.hpp>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <set>
+
+#include "animate/scene.hpp"
+#include "animate/video.hpp"
+#include "animate_util.hpp"
+
+using namespace animate_test;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kSource = PCSIM_SOURCE_DIR;
+
+std::set<std::string> listing(const fs::path& dir) {
+  std::set<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) out.insert(fs::relative(e.path(), dir).string());
+  return out;
+}
+
+// A short run of each case: the sieve cases 0.3 s, the others at most 1 s.
+std::string short_run(const std::string& name) {
+  if (name.rfind("sieve", 0) == 0) return "--set solver.t_end=0.3";
+  return "--set solver.t_end=1";
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(every_case_animates_after_pcsim_run) {
+  pcsim_test::TempDir scratch("animate_cases");
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(kSource / "cases")) {
+    if (e.path().extension() != ".toml") continue;
+    const std::string name = e.path().stem().string();
+    if (!PCSIM_WITH_SIEVE && name.rfind("sieve", 0) == 0) continue;
+    BOOST_TEST_CONTEXT(name) {
+      const fs::path out = scratch.path / name;
+      const Result r = run_pcsim("run '" + e.path().string() + "' --out '" + out.string() + "' " + short_run(name), kSource);
+      BOOST_TEST_REQUIRE(r.status == 0, r.out);
+      BOOST_TEST(fs::exists(out / "model.toml"));
+      const Result a = run_pcsim("animate '" + out.string() + "'", kSource);
+      BOOST_TEST(a.status == 0, a.out);
+      const std::string html = pcsim_test::read(out / "animation.html");
+      BOOST_TEST(pcsim_test::has(html, "default-src 'none'"));
+      BOOST_TEST(!pcsim_test::has(html, "http://"));
+      BOOST_TEST(!pcsim_test::has(html, "https://"));
+      BOOST_TEST(!pcsim_test::has(html, "<script src"));
+      // the run can be run again into the same directory (animation.html is pcsim's file)
+      const Result again = run_pcsim("run '" + e.path().string() + "' --out '" + out.string() + "' " + short_run(name), kSource);
+      BOOST_TEST(again.status == 0, again.out);
+      ++n;
+    }
+  }
+  BOOST_TEST(n >= (PCSIM_WITH_SIEVE ? 8 : 5));
+}
+
+BOOST_AUTO_TEST_CASE(bad_input_exits_2_and_writes_nothing) {
+  pcsim_test::TempDir scratch("animate_bad");
+  const fs::path w = scratch.path;
+  // not a directory
+  std::ofstream(w / "file.txt") << "x";
+  Result r = run_pcsim("animate '" + (w / "file.txt").string() + "'", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "not a directory"), r.out);
+  r = run_pcsim("animate '" + (w / "absent").string() + "'", w);
+  BOOST_TEST(r.status == 2, r.out);
+  // a directory that is not a run
+  fs::create_directories(w / "mine");
+  std::ofstream(w / "mine" / "notes.txt") << "mine";
+  r = run_pcsim("animate '" + (w / "mine").string() + "'", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "not the output directory of `pcsim run`"), r.out);
+  BOOST_TEST(listing(w / "mine") == std::set<std::string>{"notes.txt"});
+
+  // a model with nothing to draw: the message names what to add and where
+  const std::string model = R"TOML(
+[model]
+name = "plain"
+coordinates = ["x"]
+[model.parameters]
+k = 1.0
+[model.energy]
+kinetic = "0.5*x_d^2"
+potential = "0.5*k*x^2"
+)TOML";
+  std::ofstream(w / "plain.toml") << model;
+  std::ofstream(w / "plain_case.toml") << "model = \"plain.toml\"\n[initial]\nx = 1\n[solver]\nt_end = 1\n";
+  r = run_pcsim("run plain_case.toml --out run_plain", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  auto before = listing(w / "run_plain");
+  r = run_pcsim("animate run_plain", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "nothing to draw"), r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "[model.draw]"), r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "plain.toml"), r.out);
+  BOOST_TEST(listing(w / "run_plain") == before);
+
+  // a run that is being written (its lock held)
+  std::ofstream(w / "pend_case.toml") << "model = \"pendulum\"\n[initial]\nx = 0.6\ny = -0.8\n[solver]\nt_end = 0.5\n";
+  r = run_pcsim("run pend_case.toml --out run_pend", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  before = listing(w / "run_pend");
+  {
+    const int fd = ::open((w / ".run_pend.lock").c_str(), O_RDWR | O_CREAT, 0644);
+    BOOST_TEST_REQUIRE(fd >= 0);
+    BOOST_TEST_REQUIRE(::flock(fd, LOCK_EX | LOCK_NB) == 0);
+    r = run_pcsim("animate run_pend", w);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(pcsim_test::has(r.out, "in use"), r.out);
+    ::close(fd);
+    fs::remove(w / ".run_pend.lock");
+  }
+  BOOST_TEST(listing(w / "run_pend") == before);
+
+  // a failed or half-written run: summary.json not complete, a torn time series, no model.toml
+  const auto copy_run = [&](const std::string& name) {
+    fs::copy(w / "run_pend", w / name, fs::copy_options::recursive);
+    return w / name;
+  };
+  {
+    const fs::path d = copy_run("failed");
+    std::string s = pcsim_test::read(d / "summary.json");
+    s.replace(s.find("\"complete\": true"), 16, "\"complete\": false");
+    std::ofstream(d / "summary.json") << s;
+    before = listing(d);
+    r = run_pcsim("animate failed", w);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(pcsim_test::has(r.out, "not complete"), r.out);
+    BOOST_TEST(listing(d) == before);
+  }
+  {
+    const fs::path d = copy_run("torn");
+    std::string csv = pcsim_test::read(d / "timeseries.csv");
+    csv.resize(csv.size() - 7);
+    std::ofstream(d / "timeseries.csv") << csv;
+    before = listing(d);
+    r = run_pcsim("animate torn", w);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(pcsim_test::has(r.out, "torn"), r.out);
+    BOOST_TEST(listing(d) == before);
+  }
+  {
+    const fs::path d = copy_run("nomodel");
+    fs::remove(d / "model.toml");
+    r = run_pcsim("animate nomodel", w);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(pcsim_test::has(r.out, "model.toml"), r.out);
+    BOOST_TEST(!fs::exists(d / "animation.html"));
+  }
+  {
+    const fs::path d = copy_run("nosummary");
+    fs::remove(d / "summary.json");
+    r = run_pcsim("animate nosummary", w);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(!fs::exists(d / "animation.html"));
+  }
+  // bad options
+  r = run_pcsim("animate run_pend --frames 1", w);
+  BOOST_TEST(r.status == 2, r.out);
+  r = run_pcsim("animate run_pend --video out.avi", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, ".mp4 or .gif"), r.out);
+  r = run_pcsim("animate run_pend --video nodir/out.mp4", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(!fs::exists(w / "nodir"));
+  BOOST_TEST(!fs::exists(w / "run_pend" / "animation.html"));
+}
+
+BOOST_AUTO_TEST_CASE(video_writes_the_named_file_and_refuses_a_file_pcsim_did_not_write) {
+  BOOST_TEST_REQUIRE(fs::exists("/usr/bin/ffmpeg"), "Debian's ffmpeg is needed (scripts/install-deps.sh)");
+  pcsim_test::TempDir scratch("animate_video");
+  const fs::path w = scratch.path;
+  std::ofstream(w / "pend_case.toml") << "model = \"pendulum\"\n[initial]\nx = 0.6\ny = -0.8\n[solver]\nt_end = 0.4\n";
+  Result r = run_pcsim("run pend_case.toml --out run", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  r = run_pcsim("animate run --video clip.mp4 --fps 10", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  const std::string mp4 = pcsim_test::read(w / "clip.mp4");
+  BOOST_TEST(mp4.size() > 1000u);
+  BOOST_TEST(mp4.substr(4, 4) == "ftyp");
+  r = run_pcsim("animate run --video run/animation.gif --fps 10", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  BOOST_TEST(pcsim_test::read(w / "run" / "animation.gif").substr(0, 6) == "GIF89a");
+  // pcsim's own video in the run directory is replaced; a user's file never
+  r = run_pcsim("animate run --video run/animation.gif --fps 10", w);
+  BOOST_TEST(r.status == 0, r.out);
+  r = run_pcsim("animate run --video run/clip.mp4", w);  // not a name pcsim writes in a run
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(!fs::exists(w / "run" / "clip.mp4"));
+  std::ofstream(w / "mine.mp4") << "my video";
+  r = run_pcsim("animate run --video mine.mp4", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "pcsim did not write it"), r.out);
+  BOOST_TEST(pcsim_test::read(w / "mine.mp4") == "my video");
+  // the clip.mp4 pcsim wrote outside the run directory is not replaced either (pcsim cannot
+  // tell it from a user's file)
+  r = run_pcsim("animate run --video clip.mp4", w);
+  BOOST_TEST(r.status == 2, r.out);
+  // nothing but the named files (no temporaries, logs)
+  std::set<std::string> expected = {"pend_case.toml", "run", "clip.mp4", "mine.mp4"};
+  std::set<std::string> top;
+  for (const auto& e : fs::directory_iterator(w)) top.insert(e.path().filename().string());
+  BOOST_TEST(top == expected, boost::test_tools::per_element());
+}
+
+// The rasterizer of --video and the page draw the same picture: a named point's pixel in a
+// 1000 x 600 frame is the page's (within half a pixel), and the frame is inked there.
+BOOST_AUTO_TEST_CASE(the_video_rasterizer_draws_points_where_the_page_does) {
+  BOOST_TEST_REQUIRE(fs::exists(chromium()));
+  pcsim_test::TempDir scratch("animate_raster");
+  const fs::path w = scratch.path;
+  Result r = run_pcsim("run '" + (kSource / "cases/double_pendulum.toml").string() + "' --out run --set solver.t_end=1", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  r = run_pcsim("animate run", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  const nlohmann::json s = page_state(w / "run" / "animation.html", "t=0.5&mag=1", w);
+  BOOST_TEST_REQUIRE(s.is_object());
+  const pcsim::animate::Scene scene = pcsim::animate::read_scene(w / "run", 2000);
+  const std::size_t f = static_cast<std::size_t>(s["frame"].get<int>());
+  BOOST_TEST_REQUIRE(f < scene.t.size());
+  BOOST_TEST(scene.t[f] == s["t"].get<double>());
+  pcsim::animate::Rasterizer raster(scene, 1000, 600, 1.0);
+  const auto& rgb = raster.draw(f);
+  for (std::size_t i = 0; i < scene.spec.points.size(); ++i) {
+    const auto& p = scene.spec.points[i];
+    if (!p.named) continue;
+    const auto [x, y] = raster.pixel(f, i);
+    BOOST_TEST(std::abs(x - s["pixels"][p.name][0].get<double>()) <= 0.5, p.name);
+    BOOST_TEST(std::abs(y - s["pixels"][p.name][1].get<double>()) <= 0.5, p.name);
+    const std::size_t at = (static_cast<std::size_t>(y) * 1000 + static_cast<std::size_t>(x)) * 3;
+    BOOST_TEST(rgb[at] + rgb[at + 1] + rgb[at + 2] < 3 * 200, p.name);  // inked, not white
+  }
+  BOOST_TEST(rgb[(5 * 1000 + 995) * 3] == 255);  // a corner stays white
+}
+
+// pcsim steady writes one period of the orbit: its page loops that period.
+BOOST_AUTO_TEST_CASE(a_steady_state_animates_as_one_looped_period, *boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()) {
+  pcsim_test::TempDir scratch("animate_steady");
+  const fs::path w = scratch.path;
+  Result r = run_pcsim("steady '" + (kSource / "cases/sieve_1995.toml").string() + "' --out steady", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  r = run_pcsim("animate steady", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  const std::string html = pcsim_test::read(w / "steady" / "animation.html");
+  BOOST_TEST(pcsim_test::has(html, "\"steady\":true"));
+  const pcsim::animate::Scene s = pcsim::animate::read_scene(w / "steady", 2000);
+  BOOST_TEST(s.steady);
+  BOOST_TEST(std::abs((s.t.back() - s.t.front()) - 2 * M_PI / 280.0) < 1e-9);  // one excitation period
+}
