@@ -55,7 +55,8 @@ Linearization linearize(const LinearizeInput& in) {
   // velocity-form rows' derivative.
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2 * n, 2 * n), Jt(2 * n, 2 * n);
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n), Mt(n, n);
-  Eigen::VectorXd F = Eigen::VectorXd::Zero(n), ht(n), Qt(n);
+  Eigen::VectorXd F = Eigen::VectorXd::Zero(n), ht(n), Qt(n), Qm = Eigen::VectorXd::Zero(n),
+                  hm = Eigen::VectorXd::Zero(n);
   Eigen::MatrixXd g = Eigen::MatrixXd::Zero(s, n), gt(s, n), dvq = Eigen::MatrixXd::Zero(s, n), dgt0(s, n);
   Eigen::VectorXd gamma = Eigen::VectorXd::Zero(s), g0t(s), gat(s);
   Eigen::MatrixXd V = Eigen::MatrixXd::Zero(2 * n + 1, n);
@@ -71,6 +72,8 @@ Linearization linearize(const LinearizeInput& in) {
     model.forces(t, in.q, in.qd, Qt);
     M += w * Mt;
     F += w * (Qt - ht);
+    Qm += w * Qt;
+    hm += w * ht;
     if (s > 0) {
       model.constraint_rows_tangent(in.active, t, in.q, in.qd, V, gt, g0t, gat, dg, dg0, dgamma);
       g += w * gt;
@@ -111,7 +114,11 @@ Linearization linearize(const LinearizeInput& in) {
     L.qdd = x.head(n);
     L.imbalance = M * L.qdd;
     const Eigen::VectorXd R = g.transpose() * x.tail(s);
-    L.force_scale = std::max(F.cwiseAbs().maxCoeff(), R.size() ? R.cwiseAbs().maxCoeff() : 0.0);
+    // The scale: the largest of the force terms that balance (applied, inertial, reactions,
+    // holding), so that a balance of large terms is judged relative to them.
+    L.force_scale = std::max({Qm.cwiseAbs().maxCoeff(), hm.cwiseAbs().maxCoeff(),
+                              R.size() ? R.cwiseAbs().maxCoeff() : 0.0,
+                              in.extra_force.size() == n ? in.extra_force.cwiseAbs().maxCoeff() : 0.0});
     L.residual = L.imbalance.cwiseAbs().maxCoeff();
     for (int i = 0; i < n; ++i)
       if (std::abs(L.imbalance[i]) > in.rest_tol * L.force_scale && std::abs(L.imbalance[i]) > 0)
