@@ -72,8 +72,8 @@ Linearization linearize(const LinearizeInput& in) {
     model.forces(t, in.q, in.qd, Qt);
     M += w * Mt;
     F += w * (Qt - ht);
-    Qm += w * Qt;
-    hm += w * ht;
+    Qm = Qm.cwiseMax(Qt.cwiseAbs());  // the largest over the times (an averaged-out forcing counts)
+    hm = hm.cwiseMax(ht.cwiseAbs());
     if (s > 0) {
       model.constraint_rows_tangent(in.active, t, in.q, in.qd, V, gt, g0t, gat, dg, dg0, dgamma);
       g += w * gt;

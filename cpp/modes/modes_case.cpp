@@ -567,7 +567,7 @@ std::string vary_report(const nlohmann::json& j) {
        << (im.back().get<double>() < 0 ? " - " : " + ") << f(std::abs(im.back().get<double>()), 5) << "i\n";
   }
   if (j["stability_crossings"].empty()) os << "  no real part changes sign in the range\n";
-  for (const auto& x : j["stability_crossings"])
+  for (const auto& x : j["stability_crossings"]) if (x["im"].get<double>() >= 0)
     os << "  track " << x["track"].get<int>() << " " << x["direction"].get<std::string>() << " at "
        << j["key"].get<std::string>() << " ~ " << f(x["value"].get<double>(), 6) << " (Im = "
        << f(x["im"].get<double>(), 4) << ")\n";
