@@ -7,6 +7,8 @@
 #include <limits>
 #include <sstream>
 
+#include <Eigen/SVD>
+
 #include "common/error.hpp"
 #include "common/files.hpp"
 #include "common/format.hpp"
@@ -134,10 +136,31 @@ Reference case_reference(const sim::Case& c, const ModesOptions& o) {
     } else {
       eo.t0 = in.times.front();
     }
-    std::vector<std::string> slow = c.model->slow_coordinates();
-    for (const auto& name : slow) {
+    // The slow coordinates are held at their value (as pcsim steady holds them), unless the
+    // active holonomic constraints already fix them (holding one twice is singular).
+    std::vector<int> hol;
+    for (int i : in.active)
+      if (r.model->constraints()[static_cast<std::size_t>(i)].kind == mech::ConstraintKind::holonomic) hol.push_back(i);
+    Eigen::MatrixXd gh(hol.size(), n);
+    Eigen::VectorXd g0h(hol.size()), gah(hol.size());
+    if (!hol.empty()) r.model->constraint_rows(hol, in.times.front(), set.q0, Eigen::VectorXd::Zero(n), gh, g0h, gah);
+    auto rank = [](const Eigen::MatrixXd& A) {
+      if (A.rows() == 0) return 0;
+      const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A);
+      const Eigen::VectorXd sv = svd.singularValues();
+      int k = 0;
+      for (Eigen::Index i = 0; i < sv.size(); ++i) k += sv[i] > 1e-10 * std::max(1.0, sv[0]);
+      return k;
+    };
+    const int r0 = rank(gh);
+    for (const auto& name : c.model->slow_coordinates()) {
       const int i = c.model->coordinate_index(name);
-      if (i >= 0) eo.held.push_back(i);
+      if (i < 0) continue;
+      Eigen::MatrixXd ge(gh.rows() + 1, n);
+      ge.topRows(gh.rows()) = gh;
+      ge.row(gh.rows()).setZero();
+      ge(gh.rows(), i) = 1.0;
+      if (rank(ge) > r0) eo.held.push_back(i);
     }
     const mech::EquilibriumResult e = mech::static_equilibrium(*r.model, in.active, set.q0, eo);
     if (e.issue != mech::ModelIssue::none)
