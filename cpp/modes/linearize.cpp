@@ -200,7 +200,13 @@ Linearization linearize(const LinearizeInput& in) {
                              "): a motion the constraints allow carries no inertia",
                              in.times.front());
       const Eigen::EigenSolver<Eigen::MatrixXd> ke(L.Mr.ldlt().solve(L.Kr), false);
-      for (Eigen::Index k = 0; k < ke.eigenvalues().size(); ++k) L.omega2.push_back(ke.eigenvalues()[k].real());
+      double big = 0;
+      for (Eigen::Index k = 0; k < ke.eigenvalues().size(); ++k) big = std::max(big, std::abs(ke.eigenvalues()[k]));
+      // |w^2| below 1e-10 of the largest is a zero (a rigid-body motion), not a tiny instability.
+      for (Eigen::Index k = 0; k < ke.eigenvalues().size(); ++k) {
+        const double w2 = ke.eigenvalues()[k].real();
+        L.omega2.push_back(std::abs(w2) <= 1e-10 * big ? 0.0 : w2);
+      }
       std::sort(L.omega2.begin(), L.omega2.end());
     }
   }

@@ -333,6 +333,7 @@ std::string modes_report(const sim::Case& c, const nlohmann::json& j) {
   os << "\n  excitation " << j["excitation"]["meaning"].get<std::string>() << "\n";
   if (ref.contains("holding_forces"))
     for (const auto& [name, v] : ref["holding_forces"].items())
+      if (std::abs(v.get<double>()) > 1e-12 * j["rest_check"]["force_scale"].get<double>())
       os << "  slow coordinate " << name << " held by the constant force " << f(v.get<double>(), 4)
          << " (as pcsim steady holds it)\n";
   const auto& ts = j["tangent_space"];
@@ -474,6 +475,7 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
   const int steps = vary.count;
   std::vector<double> values(static_cast<std::size_t>(steps)), wex(static_cast<std::size_t>(steps));
   std::vector<std::vector<std::complex<double>>> tracks;  // [track][step]
+  std::vector<std::vector<std::complex<double>>> utracks;  // undamped omega^2, paired the same way
   int dimension = -1;
   std::string first_excitation;
   for (int k = 0; k < steps; ++k) {
@@ -495,6 +497,19 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
     for (const auto& e : ev) lam.emplace_back(e["re"].get<double>(), e["im"].get<double>());
     wex[static_cast<std::size_t>(k)] = j["excitation"]["frequency_rad_s"].is_null() ? kNaN
                                                                                     : j["excitation"]["frequency_rad_s"].get<double>();
+    std::vector<std::complex<double>> w2;
+    for (const auto& u : j["undamped"]["frequencies"]) w2.emplace_back(u["omega2"].get<double>(), 0.0);
+    if (k == 0) {
+      for (const auto& x : w2) utracks.push_back({x});
+    } else if (w2.size() == utracks.size()) {
+      std::vector<std::complex<double>> pred;
+      for (const auto& t : utracks) {
+        const std::size_t s = t.size();
+        pred.push_back(s >= 2 ? 2.0 * t[s - 1] - t[s - 2] : t[s - 1]);
+      }
+      const std::vector<int> a = pair_by_continuity(pred, w2);
+      for (std::size_t i = 0; i < utracks.size(); ++i) utracks[i].push_back(w2[static_cast<std::size_t>(a[i])]);
+    }
     if (k == 0) {
       first_excitation = j["excitation"]["meaning"].get<std::string>();
       dimension = static_cast<int>(lam.size());
@@ -551,12 +566,22 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
     }
   }
   j["tracks"] = tr;
+  nlohmann::json ut = nlohmann::json::array();
+  for (std::size_t i = 0; i < utracks.size(); ++i) {
+    nlohmann::json w = nlohmann::json::array();
+    for (const auto& x : utracks[i]) w.push_back(num(x.real() >= 0 ? std::sqrt(x.real()) : kNaN));
+    ut.push_back({{"track", i + 1}, {"omega_rad_s", w}});
+  }
+  j["undamped_tracks"] = ut;
+  j["undamped_note"] = "undamped frequencies (damping and gyroscopic terms dropped) per step, paired by continuity "
+                       "of omega^2; null where omega^2 < 0 (statically unstable)";
   j["stability_crossings"] = crossings;
   j["crossing_note"] = "where a track's real part changes sign between two steps, located by linear interpolation";
   if (out) {
     std::ostringstream csv;
     csv << vary.key << ",excitation_frequency_rad_s";
     for (std::size_t i = 0; i < tracks.size(); ++i) csv << ",re_" << i + 1 << ",im_" << i + 1;
+    for (std::size_t i = 0; i < utracks.size(); ++i) csv << ",undamped_" << i + 1;
     csv << "\n";
     for (int k = 0; k < steps; ++k) {
       csv << format_number(values[static_cast<std::size_t>(k)]) << ","
@@ -564,6 +589,10 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
       for (const auto& t : tracks)
         csv << "," << format_number(t[static_cast<std::size_t>(k)].real()) << ","
             << format_number(t[static_cast<std::size_t>(k)].imag());
+      for (const auto& t : utracks) {
+        const double w2 = t[static_cast<std::size_t>(k)].real();
+        csv << "," << (w2 >= 0 ? format_number(std::sqrt(w2)) : std::string());
+      }
       csv << "\n";
     }
     out->write("modes_vary.csv", csv.str());
@@ -588,6 +617,15 @@ std::string vary_report(const nlohmann::json& j) {
     os << "    " << t["track"].get<int>() << ": " << f(re.front().get<double>(), 5) << (im.front().get<double>() < 0 ? " - " : " + ")
        << f(std::abs(im.front().get<double>()), 5) << "i  ->  " << f(re.back().get<double>(), 5)
        << (im.back().get<double>() < 0 ? " - " : " + ") << f(std::abs(im.back().get<double>()), 5) << "i\n";
+  }
+  if (!j["undamped_tracks"].empty()) {
+    os << "  undamped frequencies (rad/s), first -> last step:";
+    for (const auto& t : j["undamped_tracks"]) {
+      const auto& w = t["omega_rad_s"];
+      auto v = [](const nlohmann::json& x) { return x.is_null() ? std::string("unstable") : f(x.get<double>(), 5); };
+      os << "  " << v(w.front()) << " -> " << v(w.back());
+    }
+    os << "\n";
   }
   if (j["stability_crossings"].empty()) os << "  no real part changes sign in the range\n";
   for (const auto& x : j["stability_crossings"]) if (x["im"].get<double>() >= 0)

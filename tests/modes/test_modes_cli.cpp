@@ -114,7 +114,7 @@ BOOST_AUTO_TEST_CASE(vary_writes_the_trace_and_plot_draws_it) {
   BOOST_TEST_MESSAGE(r.out);
   BOOST_REQUIRE(r.status == 0);
   const std::string csv = read(tmp.path / "o" / "modes_vary.csv");
-  BOOST_TEST(csv.rfind("parameters.k2,excitation_frequency_rad_s,re_1,im_1,re_2,im_2,re_3,im_3,re_4,im_4\n", 0) == 0);
+  BOOST_TEST(csv.rfind("parameters.k2,excitation_frequency_rad_s,re_1,im_1,re_2,im_2,re_3,im_3,re_4,im_4,undamped_1,undamped_2\n", 0) == 0);
   BOOST_TEST(std::count(csv.begin(), csv.end(), '\n') == 6);
   r = run_cli("plot o", tmp.path);
   BOOST_TEST_MESSAGE(r.out);

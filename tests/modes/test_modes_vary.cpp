@@ -59,6 +59,13 @@ BOOST_AUTO_TEST_CASE(crossing_frequencies_keep_their_tracks) {
   }
   BOOST_TEST(checked == 4);
   BOOST_TEST(j["stability_crossings"].empty());
+  // The undamped frequencies are paired the same way.
+  BOOST_REQUIRE(j["undamped_tracks"].size() == 2u);
+  for (const auto& t : j["undamped_tracks"]) {
+    const double first = t["omega_rad_s"].front().get<double>(), last = t["omega_rad_s"].back().get<double>();
+    if (std::abs(first - std::sqrt(50.0)) < 1e-9) BOOST_TEST(std::abs(last - std::sqrt(250.0)) < 1e-9);
+    else BOOST_TEST(std::abs(last - 10.0) < 1e-9);
+  }
 }
 
 // Only c1 damps: the real parts are proportional to c1 to first order and change sign at

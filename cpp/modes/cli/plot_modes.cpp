@@ -38,7 +38,8 @@ void plot_modes(const fs::path& dir) {
     throw InputError((dir / "modes_vary.json").string() + ": not a complete pcsim modes trace (" + e.what() +
                      "); rerun pcsim modes --vary");
   }
-  if (shape.header.size() != 2 + 2 * tracks || shape.header[0] != key)
+  const std::size_t undamped = meta.value("undamped_tracks", nlohmann::json::array()).size();
+  if (shape.header.size() != 2 + 2 * tracks + undamped || shape.header[0] != key)
     throw InputError((dir / "modes_vary.csv").string() + ": its columns do not match modes_vary.json (" +
                      std::to_string(tracks) + " tracks of " + key + "); rerun pcsim modes --vary");
   bool excitation = false;
@@ -62,7 +63,7 @@ void plot_modes(const fs::path& dir) {
   for (const std::size_t i : drawn)
     g << ", 'modes_vary.csv' every ::1 using 1:" << 3 + 2 * i << " with linespoints pt 7 ps 0.5 lw 1.5 lc rgb '"
       << colors[i % 8] << "' title " << gnuplot_quoted("track " + std::to_string(i + 1));
-  g << "\nset ylabel 'Im lambda (rad/s), Im >= 0'\nplot ";
+  g << "\nset ylabel 'Im lambda (rad/s), Im >= 0; dashed: undamped'\nplot ";
   if (excitation) g << "'modes_vary.csv' every ::1 using 1:2 with lines lw 2 dt 3 lc rgb 'black' title 'excitation frequency', ";
   for (std::size_t k = 0; k < drawn.size(); ++k) {
     const std::size_t i = drawn[k];
@@ -70,6 +71,9 @@ void plot_modes(const fs::path& dir) {
       << " : 1/0) with linespoints pt 7 ps 0.5 lw 1.5 lc rgb '" << colors[i % 8] << "' title "
       << gnuplot_quoted("track " + std::to_string(i + 1));
   }
+  for (std::size_t i = 0; i < undamped; ++i)
+    g << ", 'modes_vary.csv' every ::1 using 1:" << 3 + 2 * tracks + i << " with lines lw 1 dt 2 lc rgb '#7f7f7f' title "
+      << gnuplot_quoted("undamped " + std::to_string(i + 1));
   g << "\nunset multiplot\nunset output\n";
   run_plot_script(dir, g.str(), {"modes_vary.png"});
 }
