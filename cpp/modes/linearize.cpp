@@ -145,6 +145,8 @@ Linearization linearize(const LinearizeInput& in) {
                                " linearization did not converge", in.times.front());
     L.eigenvalues = es.eigenvalues();
     const Eigen::MatrixXcd Y = L.B.cast<std::complex<double>>() * es.eigenvectors();
+    L.eigenvectors = Y;
+    for (int k = 0; k < m; ++k) L.eigenvectors.col(k).normalize();
     L.zero_tol = 1e-7 * std::max(L.A.norm(), 1.0);
     for (int k = 0; k < m; ++k) {
       const std::complex<double> lam = L.eigenvalues[k];

@@ -70,6 +70,7 @@ struct Linearization {
   std::vector<int> cyclic_in_equations;       ///< cyclic coordinates the equations depend on
   // The eigen-analysis.
   Eigen::VectorXcd eigenvalues;               ///< all `dimension` of them
+  Eigen::MatrixXcd eigenvectors;              ///< their eigenvectors in (δq, δq̇) (2n rows), unit length
   std::vector<Mode> modes;                    ///< pairs once, sorted by natural frequency
   double zero_tol = 0;                        ///< |λ| below which an eigenvalue counts as zero
   bool stable = false;                        ///< every Re λ < zero_tol (zero modes marginal)

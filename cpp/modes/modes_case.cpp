@@ -416,14 +416,39 @@ VarySpec parse_vary(const std::string& text) {
   return v;
 }
 
+namespace {
+std::vector<int> hungarian(const Eigen::MatrixXd& cost_matrix);
+}
+
 std::vector<int> pair_by_continuity(const std::vector<std::complex<double>>& pred,
                                     const std::vector<std::complex<double>>& next) {
-  // The Hungarian method (potentials and augmenting paths, O(m^3)) on the cost |pred_i − next_j|.
-  const int m = static_cast<int>(pred.size());
+  Eigen::MatrixXd cost(pred.size(), next.size());
+  for (std::size_t i = 0; i < pred.size(); ++i)
+    for (std::size_t j = 0; j < next.size(); ++j) cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = std::abs(pred[i] - next[j]);
+  return hungarian(cost);
+}
+
+std::vector<int> pair_by_continuity(const std::vector<std::complex<double>>& pred,
+                                    const std::vector<std::complex<double>>& next, const Eigen::MatrixXcd& U,
+                                    const Eigen::MatrixXcd& W, const std::vector<double>& scales) {
+  Eigen::MatrixXd cost(pred.size(), next.size());
+  for (std::size_t i = 0; i < pred.size(); ++i)
+    for (std::size_t j = 0; j < next.size(); ++j) {
+      const double overlap = std::min(1.0, std::abs(U.col(static_cast<Eigen::Index>(i)).dot(W.col(static_cast<Eigen::Index>(j)))));
+      cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = std::abs(pred[i] - next[j]) + scales[i] * (1.0 - overlap);
+    }
+  return hungarian(cost);
+}
+
+namespace {
+
+std::vector<int> hungarian(const Eigen::MatrixXd& C) {
+  // The Hungarian method (potentials and augmenting paths, O(m^3)) on the cost C(i, j).
+  const int m = static_cast<int>(C.rows());
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> u(static_cast<std::size_t>(m + 1)), v(static_cast<std::size_t>(m + 1));
   std::vector<int> p(static_cast<std::size_t>(m + 1)), way(static_cast<std::size_t>(m + 1));
-  auto cost = [&](int i, int jj) { return std::abs(pred[static_cast<std::size_t>(i - 1)] - next[static_cast<std::size_t>(jj - 1)]); };
+  auto cost = [&](int i, int jj) { return C(i - 1, jj - 1); };
   for (int i = 1; i <= m; ++i) {
     p[0] = i;
     int j0 = 0;
@@ -467,34 +492,64 @@ std::vector<int> pair_by_continuity(const std::vector<std::complex<double>>& pre
   return assign;
 }
 
+}  // namespace
+
+namespace {
+
+/// The case with the key at x: a model parameter is set in place (the model's instantiate checks
+/// its range), without deriving the model again; any other key through sim::set_value.
+sim::Case case_at(const sim::Case& c, const std::string& key, double x) {
+  sim::Case ck = c;
+  const std::string prefix = "parameters.";
+  if (key.rfind(prefix, 0) == 0 && c.setup.parameters.count(key.substr(prefix.size())) &&
+      !sim::is_integer_key(c, key)) {
+    ck.table["parameters"].as_table()->insert_or_assign(key.substr(prefix.size()), x);
+    sim::retype(ck);
+    return ck;
+  }
+  sim::set_value(ck, {key, sim::is_integer_key(c, key) ? format_number(std::round(x)) : format_number(x)});
+  return ck;
+}
+
+std::vector<std::complex<double>> eigenvalues_of(const nlohmann::json& j) {
+  std::vector<std::complex<double>> lam;
+  for (const auto& e : j["eigenvalues"]) lam.emplace_back(e["re"].get<double>(), e["im"].get<double>());
+  return lam;
+}
+
+}  // namespace
+
 nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VarySpec& vary) {
   if (!sim::is_numeric_key(c, vary.key))
     throw InputError("--vary " + vary.key + ": not a numeric key of the case (e.g. parameters.NAME)");
   std::unique_ptr<OutputDirectory> out;
   if (o.out_dir) out = std::make_unique<OutputDirectory>(*o.out_dir, "modes");
   const int steps = vary.count;
-  std::vector<double> values(static_cast<std::size_t>(steps)), wex(static_cast<std::size_t>(steps));
+  std::vector<double> values(static_cast<std::size_t>(steps)), wex(static_cast<std::size_t>(steps)),
+      ztol(static_cast<std::size_t>(steps));
   std::vector<std::vector<std::complex<double>>> tracks;  // [track][step]
   std::vector<std::vector<std::complex<double>>> utracks;  // undamped omega^2, paired the same way
   int dimension = -1;
   std::string first_excitation;
+  Eigen::MatrixXcd vectors;  // the tracks' current eigenvectors
+  std::vector<std::vector<Eigen::VectorXcd>> track_vectors;  // [track][step]
   for (int k = 0; k < steps; ++k) {
     const double x = vary.start + (vary.stop - vary.start) * k / (steps - 1);
     values[static_cast<std::size_t>(k)] = x;
     sim::Case ck = c;
     const std::string at = vary.key + " = " + format_number(x);
     nlohmann::json j;
+    Linearization Lk;
     try {
-      sim::set_value(ck, {vary.key, sim::is_integer_key(c, vary.key) ? format_number(std::round(x)) : format_number(x)});
-      j = case_modes(ck, o);
+      ck = case_at(c, vary.key, x);
+      j = case_modes(ck, o, &Lk);
     } catch (const NumericalError& e) {
       throw NumericalError("--vary: at " + at + ": " + e.what() + "; nothing written", e.time());
     } catch (const InputError& e) {
       throw InputError("--vary: at " + at + ": " + e.what() + "; nothing written");
     }
-    const auto& ev = j["eigenvalues"];
-    std::vector<std::complex<double>> lam;
-    for (const auto& e : ev) lam.emplace_back(e["re"].get<double>(), e["im"].get<double>());
+    std::vector<std::complex<double>> lam = eigenvalues_of(j);
+    ztol[static_cast<std::size_t>(k)] = j["zero_tolerance"].get<double>();
     wex[static_cast<std::size_t>(k)] = j["excitation"]["frequency_rad_s"].is_null() ? kNaN
                                                                                     : j["excitation"]["frequency_rad_s"].get<double>();
     std::vector<std::complex<double>> w2;
@@ -513,10 +568,18 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
     if (k == 0) {
       first_excitation = j["excitation"]["meaning"].get<std::string>();
       dimension = static_cast<int>(lam.size());
-      std::stable_sort(lam.begin(), lam.end(), [](auto a, auto b) {
-        return std::abs(a) != std::abs(b) ? std::abs(a) < std::abs(b) : a.imag() < b.imag();
+      // Tracks in the order of |lambda|, with their eigenvectors.
+      std::vector<int> order(lam.size());
+      for (std::size_t m = 0; m < lam.size(); ++m) order[m] = static_cast<int>(m);
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return std::abs(lam[a]) != std::abs(lam[b]) ? std::abs(lam[a]) < std::abs(lam[b]) : lam[a].imag() < lam[b].imag();
       });
-      for (const auto& l : lam) tracks.push_back({l});
+      vectors = Eigen::MatrixXcd(Lk.eigenvectors.rows(), static_cast<Eigen::Index>(lam.size()));
+      for (std::size_t m = 0; m < order.size(); ++m) {
+        tracks.push_back({lam[static_cast<std::size_t>(order[m])]});
+        vectors.col(static_cast<Eigen::Index>(m)) = Lk.eigenvectors.col(order[m]);
+        track_vectors.push_back({Lk.eigenvectors.col(order[m])});
+      }
       continue;
     }
     if (static_cast<int>(lam.size()) != dimension)
@@ -527,12 +590,20 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
                            0.0);
     // Predict each track's next value by linear extrapolation of its last two, then assign.
     std::vector<std::complex<double>> pred;
+    std::vector<double> scales;
     for (const auto& t : tracks) {
       const std::size_t s = t.size();
       pred.push_back(s >= 2 ? 2.0 * t[s - 1] - t[s - 2] : t[s - 1]);
+      scales.push_back(std::max(s >= 2 ? std::abs(t[s - 1] - t[s - 2]) : 0.0, 1e-3 * std::abs(t[s - 1])));
     }
-    const std::vector<int> a = pair_by_continuity(pred, lam);
-    for (std::size_t i = 0; i < tracks.size(); ++i) tracks[i].push_back(lam[static_cast<std::size_t>(a[i])]);
+    const std::vector<int> a = pair_by_continuity(pred, lam, vectors, Lk.eigenvectors, scales);
+    Eigen::MatrixXcd next_vectors(vectors.rows(), vectors.cols());
+    for (std::size_t i = 0; i < tracks.size(); ++i) {
+      tracks[i].push_back(lam[static_cast<std::size_t>(a[i])]);
+      next_vectors.col(static_cast<Eigen::Index>(i)) = Lk.eigenvectors.col(a[i]);
+      track_vectors[i].push_back(Lk.eigenvectors.col(a[i]));
+    }
+    vectors = next_vectors;
   }
   nlohmann::json j;
   j["case"] = c.name;
@@ -543,9 +614,10 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
   nlohmann::json w = nlohmann::json::array();
   for (double x : wex) w.push_back(num(x));
   j["excitation_frequency_rad_s"] = w;
-  j["pairing"] = "by continuity: at each step the eigenvalues are assigned to the tracks by the least total distance "
-                 "|predicted - lambda| (Hungarian method), each track's value predicted by linear extrapolation of its "
-                 "last two steps";
+  j["pairing"] = "by continuity: at each step the eigenvalues are assigned to the tracks by the least total cost "
+                 "|predicted - lambda| (2 - |u.v|) (Hungarian method), each track's value predicted by linear "
+                 "extrapolation of its last two steps, u.v the overlap of the unit eigenvectors in (dq, dq_d): "
+                 "where eigenvalues come close the mode shapes decide";
   nlohmann::json tr = nlohmann::json::array(), crossings = nlohmann::json::array();
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     std::vector<double> re, im;
@@ -555,14 +627,83 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
     }
     tr.push_back({{"track", i + 1}, {"re", re}, {"im", im}});
     for (int k = 1; k < steps; ++k) {
-      const double a = re[static_cast<std::size_t>(k - 1)], b = re[static_cast<std::size_t>(k)];
-      if ((a < 0 && b > 0) || (a > 0 && b < 0)) {
-        const double x0 = values[static_cast<std::size_t>(k - 1)], x1 = values[static_cast<std::size_t>(k)];
-        crossings.push_back({{"track", i + 1},
-                             {"value", x0 + (x1 - x0) * (-a) / (b - a)},
-                             {"direction", b > 0 ? "becomes unstable" : "becomes stable"},
-                             {"im", im[static_cast<std::size_t>(k)]}});
+      const std::size_t k0 = static_cast<std::size_t>(k - 1), k1 = static_cast<std::size_t>(k);
+      const double a = re[k0], b = re[k1];
+      // A zero eigenvalue's rounding noise (|Re| within the zero tolerance) is no crossing.
+      const double z = std::max(ztol[k0], ztol[k1]);
+      if (!((a < -z && b > z) || (a > z && b < -z))) continue;
+      const double x0 = values[k0], x1 = values[k1];
+      // The root of the track's real part between the two steps: the Illinois (modified
+      // regula falsi) method on Re of the eigenvalue nearest the track's interpolated value.
+      const std::complex<double> l0 = tracks[i][k0], l1 = tracks[i][k1];
+      int evaluations = 0;
+      // The eigenvalue of the track at xv: least |λ − interpolated| + |l1 − l0| (1 − overlap with
+      // the track's eigenvector at the nearer step), as the pairing chooses.
+      auto re_at = [&](double xv, std::complex<double>& lam_out) {
+        const double s = (xv - x0) / (x1 - x0);
+        const std::complex<double> guess = l0 + s * (l1 - l0);
+        const Eigen::VectorXcd& u = track_vectors[i][s < 0.5 ? k0 : k1];
+        Linearization Lx;
+        const auto lam = eigenvalues_of(case_modes(case_at(c, vary.key, xv), o, &Lx));
+        ++evaluations;
+        std::size_t best = 0;
+        double best_cost = std::numeric_limits<double>::infinity();
+        for (std::size_t m = 0; m < lam.size(); ++m) {
+          const double ov = std::min(1.0, std::abs(u.dot(Lx.eigenvectors.col(static_cast<Eigen::Index>(m)))));
+          const double cost = std::abs(lam[m] - guess) + std::abs(l1 - l0) * (1.0 - ov);
+          if (cost < best_cost) {
+            best_cost = cost;
+            best = m;
+          }
+        }
+        lam_out = lam[best];
+        // Where the track meets other eigenvalues (a real eigenvalue crossing 0 through a cluster
+        // of zero eigenvalues: a defective multiple root, each member ill-conditioned), the sum
+        // of the cluster around the interpolated value is well-conditioned: the zeros add
+        // nothing to it, and it is the track's real part.
+        const double rho = 0.25 * std::abs(l1 - l0);
+        double sum = 0;
+        int members = 0;
+        for (const auto& l : lam)
+          if (std::abs(l - guess) <= rho) {
+            sum += l.real();
+            ++members;
+          }
+        return members > 1 ? sum : lam[best].real();
+      };
+      double xa = x0, xb = x1, fa = a, fb = b, root = x0 + (x1 - x0) * (-a) / (b - a);
+      std::complex<double> at = l1;
+      int side = 0;
+      try {
+        for (int it = 0; it < 60; ++it) {
+          const double xm = xb - fb * (xb - xa) / (fb - fa);
+          std::complex<double> lm;
+          const double fm = re_at(xm, lm);
+          root = xm;
+          at = lm;
+          if (fm == 0 || std::abs(xb - xa) <= 1e-13 * std::max(1.0, std::abs(xm))) break;
+          if ((fm > 0) == (fb > 0)) {
+            xb = xm;
+            fb = fm;
+            if (side == -1) fa /= 2;
+            side = -1;
+          } else {
+            xa = xm;
+            fa = fm;
+            if (side == 1) fb /= 2;
+            side = 1;
+          }
+          if (std::abs(fm) <= 1e-15 * std::max(1.0, std::abs(lm))) break;
+        }
+      } catch (const Error&) {
+        // The linearization failed between two steps that had one: keep the interpolated value.
       }
+      crossings.push_back({{"track", i + 1},
+                           {"value", root},
+                           {"interpolated", x0 + (x1 - x0) * (-a) / (b - a)},
+                           {"evaluations", evaluations},
+                           {"direction", b > 0 ? "becomes unstable" : "becomes stable"},
+                           {"im", at.imag()}});
     }
   }
   j["tracks"] = tr;
@@ -576,7 +717,9 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
   j["undamped_note"] = "undamped frequencies (damping and gyroscopic terms dropped) per step, paired by continuity "
                        "of omega^2; null where omega^2 < 0 (statically unstable)";
   j["stability_crossings"] = crossings;
-  j["crossing_note"] = "where a track's real part changes sign between two steps, located by linear interpolation";
+  j["crossing_note"] = "where a track's real part changes sign between two steps (beyond the zero tolerance): "
+                       "'value' is the root of the real part (Illinois method on the eigenvalue nearest the "
+                       "track, to 1e-13 relative in the key), 'interpolated' the linear interpolation";
   if (out) {
     std::ostringstream csv;
     csv << vary.key << ",excitation_frequency_rad_s";

@@ -73,6 +73,14 @@ VarySpec parse_vary(const std::string& text);
 /// method). Returns, per track, the index into `next`.
 std::vector<int> pair_by_continuity(const std::vector<std::complex<double>>& predicted,
                                     const std::vector<std::complex<double>>& next);
+/// The same with the eigenvectors (unit columns): the cost of a pair is
+/// |predicted − λ| + scale_i (1 − |u_i·v|), scale_i the track's change over its last step, so
+/// that where eigenvalues come close (a crossing, a cluster of zero eigenvalues) the mode shapes
+/// decide.
+std::vector<int> pair_by_continuity(const std::vector<std::complex<double>>& predicted,
+                                    const std::vector<std::complex<double>>& next,
+                                    const Eigen::MatrixXcd& previous_vectors, const Eigen::MatrixXcd& next_vectors,
+                                    const std::vector<double>& scales);
 
 /// Traces the eigenvalues over the key; writes modes_vary.csv and modes_vary.json (when
 /// out_dir is set) and returns modes_vary.json's content. A step at which the reference is not
