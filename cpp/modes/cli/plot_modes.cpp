@@ -56,8 +56,14 @@ void plot_modes(const fs::path& dir) {
        "} else {\n  set terminal png size 1000,900 noenhanced\n}\n"
        "set datafile separator ','\nset datafile missing ''\nset grid\nset key outside right top\nset format y '%.4g'\n";
   g << "set output " << gnuplot_quoted("modes_vary.png") << "\n";
-  g << "set multiplot layout 2,1 title " << gnuplot_quoted(cname + ": eigenvalues against " + key + ", paired by continuity")
+  g << "set multiplot layout 2,1 title " << gnuplot_quoted(cname + ": eigenvalues against " + key + ", paired by continuity; red dotted: stability crossings")
     << "\n";
+  // The stability crossings the trace located, as vertical lines in both panels.
+  int arrow = 1;
+  for (const auto& x : meta.value("stability_crossings", nlohmann::json::array()))
+    if (x.contains("value") && x["value"].is_number() && x.value("im", 0.0) >= 0)
+      g << "set arrow " << arrow++ << " from " << x["value"].get<double>() << ", graph 0 to " << x["value"].get<double>()
+        << ", graph 1 nohead dt 3 lc rgb '#d62728'\n";
   g << "set xlabel " << gnuplot_quoted(key) << "\nset ylabel 'Re lambda (1/s)'\n";
   g << "plot 0 with lines lw 2 dt 2 lc rgb 'black' title 'stability boundary Re = 0'";
   for (const std::size_t i : drawn)
