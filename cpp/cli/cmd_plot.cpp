@@ -24,6 +24,7 @@
 #include "cli/plot_response.hpp"
 #include "common/error.hpp"
 #include "common/gnuplot.hpp"
+#include "modes/cli/plot_modes.hpp"
 #include "sim/client.hpp"
 
 namespace {
@@ -96,6 +97,10 @@ void plot(const std::string& dir_text) {
                                        "run`, `pcsim steady` or `pcsim response`");
   if (pcsim::cli::is_response_dir(dir)) {  // `pcsim response`: the response curves
     pcsim::cli::plot_response(dir);
+    return;
+  }
+  if (pcsim::cli::is_modes_dir(dir)) {  // `pcsim modes --vary`: the eigenvalue trace
+    pcsim::cli::plot_modes(dir);
     return;
   }
   try {

@@ -214,6 +214,8 @@ bool pcsim_writes(const std::string& command, const std::string& name) {
   if (command == "run") return plot || one_of({"summary.json", "timeseries.csv", "events.csv"});
   if (command == "steady") return plot || one_of({"steady.json", "timeseries.csv", "events.csv"});
   if (command == "response") return plot || one_of({"response.csv", "response.json"});
+  if (command == "modes")
+    return plot || one_of({"modes.json", "modes.csv", "modes_vary.csv", "modes_vary.json"});
   const bool sweep = one_of({"sweep.csv", "sweep.key", ".sweep.lock"});
   if (command == "sweep") return sweep;
   if (command == "incline")

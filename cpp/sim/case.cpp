@@ -366,6 +366,11 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
   for (auto& [k, v] : t) {
     const std::string key(k.str());
     if (key == "model") continue;
+    // [modes] belongs to `pcsim modes`, which checks its keys (cpp/modes); other commands ignore it.
+    if (key == "modes") {
+      if (!v.is_table()) fail(file, key, "a table [modes] (the options of pcsim modes)", describe(v));
+      continue;
+    }
     bool is_section = false;
     for (const auto& s : kSections) is_section = is_section || key == s;
     if (is_section) {
@@ -387,7 +392,7 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
     } else if (!find(r.keys, key) || !find(r.keys, key)->section.empty()) {
       fail(file, key,
            "a known key: model, name, or one of the tables [parameters] [initial] "
-           "[constraints] [solver] [output] [contact]");
+           "[constraints] [solver] [output] [contact] [modes]");
     }
   }
   for (const auto& s : kSections)
