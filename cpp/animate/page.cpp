@@ -284,7 +284,7 @@ function draw() {
   // The scale bar of the arrows: each arrow's `length` and what it stands for.
   let y = 18;
   ctx.font = "13px sans-serif";
-  for (const s of D.shapes) if (s.kind === "arrow") {
+  for (const s of D.shapes) if (s.kind === "arrow" && !MODES) {  // a mode shape has no forces
     const L = s.length * scale;
     ctx.strokeStyle = s.color || "#c0392b"; ctx.beginPath(); ctx.moveTo(10, y); ctx.lineTo(10 + L, y); ctx.stroke();
     ctx.fillStyle = "#000"; ctx.fillText(s.force + ": " + fmt(s.unit) + " " + s.unitName + " (now " + fmt(D.f[f][s.f]) + " " + s.unitName + ")", 16 + Math.min(L, 300), y + 4);
@@ -396,7 +396,7 @@ if (q.has("az")) az = Number(q.get("az"));
 if (MODES && q.has("phase")) { playing = false; playBtn.textContent = "play"; autoRotate = false; frame = frameAt(Number(q.get("phase"))); simTime = D.t[frame]; }
 if (q.has("t")) { playing = false; playBtn.textContent = "play"; autoRotate = false; frame = frameAt(Number(q.get("t"))); simTime = D.t[frame]; }
 draw();
-let legend = "Arrows: " + (D.shapes.some(s => s.kind === "arrow") ? "each drawn to its own scale (the bars top left)." : "none.");
+let legend = MODES ? "Mode shapes: no forces are drawn." : "Arrows: " + (D.shapes.some(s => s.kind === "arrow") ? "each drawn to its own scale (the bars top left)." : "none.");
 if (D.contacts.length) legend += " Contact modes on the timeline (" + D.contacts.join(", ") + "): stick green, slip orange, flight red, contact blue; events are the ticks above.";
 legend += MODES ? " " + MODES.length + " modes, " + MODES[0].count + " frames per cycle." : " " + F + " frames of " + D.rows + " time-series rows.";
 document.getElementById("legend").textContent = legend;
