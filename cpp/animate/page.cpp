@@ -49,6 +49,13 @@ std::string data_json(const Scene& s) {
   head["magnify"] = s.magnify;
   head["meanWindow"] = s.mean_window;
   head["rows"] = s.rows;
+  if (!s.mode_pages.empty()) {
+    json mp = json::array();
+    for (const auto& m : s.mode_pages)
+      mp.push_back({{"label", m.label}, {"text", m.text}, {"first", m.first}, {"count", m.count},
+                    {"amplitude", m.amplitude}, {"amplitudeText", m.amplitude_text}});
+    head["modePages"] = mp;
+  }
   json pts = json::array();
   for (const auto& p : s.spec.points) pts.push_back({{"name", p.name}, {"named", p.named}});
   head["points"] = pts;
@@ -156,6 +163,7 @@ body{font:14px sans-serif;margin:8px;color:#222;background:#fafafa}
 <label>magnification <input id="mag" type="number" min="1" max="1e9" step="any" style="width:7em"></label>
 </div>
 <canvas id="timeline" width="1000" height="28"></canvas>
+<div class="note" id="modeinfo"></div>
 <div class="note" id="magnote"></div>
 <div class="note" id="legend"></div>
 <pre id="pcsim-state" hidden></pre>
@@ -170,9 +178,12 @@ const slider = document.getElementById("slider"), magIn = document.getElementByI
 const playBtn = document.getElementById("play"), speedSel = document.getElementById("speed");
 let frame = 0, playing = true, mag = D.magnify, simTime = D.t[0], last = null;
 let az = 0.6, el = 0.35, autoRotate = D.spatial;
+// A pcsim modes page: each mode's cycle is the frames fLo..fHi (t is then the phase, rad).
+const MODES = D.modePages && D.modePages.length ? D.modePages : null;
+let fLo = 0, fHi = F - 1, cur = 0;
 slider.max = F - 1;
 magIn.value = mag;
-document.getElementById("head").textContent = "pcsim animate: case '" + D.title + "', model '" + D.model + "' (" + D.modelFile + ")" + (D.steady ? ": one period of the periodic steady state, looped" : "") + (D.spatial ? "; drag to orbit the camera" : "");
+document.getElementById("head").textContent = "pcsim animate: case '" + D.title + "', model '" + D.model + "' (" + D.modelFile + ")" + (MODES ? ": the mode shapes about the reference state, one cycle each, looped" : D.steady ? ": one period of the periodic steady state, looped" : "") + (D.spatial ? "; drag to orbit the camera" : "");
 
 // The drawn position of point i in frame f: the moving mean plus the magnified deviation.
 function point(f, i) {
@@ -184,11 +195,11 @@ function point(f, i) {
 let bounds = null;
 function computeBounds() {
   let lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-  for (let f = 0; f < F; f++) for (let i = 0; i < P; i++) {
+  for (let f = fLo; f <= fHi; f++) for (let i = 0; i < P; i++) {
     const p = point(f, i);
     for (let k = 0; k < 3; k++) if (isFinite(p[k])) { lo[k] = Math.min(lo[k], p[k]); hi[k] = Math.max(hi[k], p[k]); }
   }
-  for (const s of D.shapes) if (s.kind === "circle") for (let f = 0; f < F; f += Math.max(1, Math.floor(F / 200))) {
+  for (const s of D.shapes) if (s.kind === "circle") for (let f = fLo; f <= fHi; f += Math.max(1, Math.floor((fHi - fLo + 1) / 200))) {
     const c = point(f, s.pts[0]), r = Math.abs(D.v[f][s.v - 3 * P]);
     if (isFinite(r)) for (let k = 0; k < 2; k++) { lo[k] = Math.min(lo[k], c[k] - r); hi[k] = Math.max(hi[k], c[k] + r); }
   }
@@ -273,14 +284,15 @@ function draw() {
   // The scale bar of the arrows: each arrow's `length` and what it stands for.
   let y = 18;
   ctx.font = "13px sans-serif";
-  for (const s of D.shapes) if (s.kind === "arrow") {
+  for (const s of D.shapes) if (s.kind === "arrow" && !MODES) {  // a mode shape has no forces
     const L = s.length * scale;
     ctx.strokeStyle = s.color || "#c0392b"; ctx.beginPath(); ctx.moveTo(10, y); ctx.lineTo(10 + L, y); ctx.stroke();
     ctx.fillStyle = "#000"; ctx.fillText(s.force + ": " + fmt(s.unit) + " " + s.unitName + " (now " + fmt(D.f[f][s.f]) + " " + s.unitName + ")", 16 + Math.min(L, 300), y + 4);
     y += 18;
   }
-  ctx.fillText("t = " + D.t[f].toFixed(4) + " s   magnification " + fmt(mag) + "x", 10, view.height - 10);
-  document.getElementById("time").textContent = "t = " + D.t[f].toFixed(4) + " s";
+  const when = MODES ? MODES[cur].label + ", phase = " + D.t[f].toFixed(3) + " rad" : "t = " + D.t[f].toFixed(4) + " s";
+  ctx.fillText(when + "   magnification " + fmt(mag) + "x", 10, view.height - 10);
+  document.getElementById("time").textContent = when;
   slider.value = f;
   drawTimeline();
   const named = {}, pixels = {};
@@ -294,13 +306,14 @@ function draw() {
   // The time from the navigation's start to the first drawn frame (what "opens in" means).
   if (window.pcsimOpenedMs === undefined) window.pcsimOpenedMs = performance.now();
   state.opened_ms = window.pcsimOpenedMs;
+  if (MODES) { state.mode = cur + 1; state.mode_label = MODES[cur].label; state.phase = D.t[f]; state.amplitude = MODES[cur].amplitude; }
   window.pcsimLast = state;
   document.getElementById("pcsim-state").textContent = JSON.stringify(state);
 }
 function fmt(v) { return v === null || v === undefined ? "n/a" : String(Number(Number(v).toPrecision(4))); }
 window.pcsimState = () => window.pcsimLast;
 function drawTimeline() {
-  const W = tl.width, H = tl.height, t0 = D.t[0], t1 = D.t[F - 1], span = Math.max(1e-300, t1 - t0);
+  const W = tl.width, H = tl.height, t0 = D.t[fLo], t1 = D.t[fHi], span = Math.max(1e-300, t1 - t0);
   tctx.clearRect(0, 0, W, H);
   const X = t => (t - t0) / span * (W - 1);
   // The contact modes as coloured bands, one row per contact.
@@ -319,20 +332,30 @@ function setMag(m) {
   mag = m;
   magIn.value = m;
   computeBounds();
+  if (MODES) {
+    document.getElementById("magnote").textContent = MODES[cur].amplitudeText +
+      (mag === 1 ? "" : "; displacements magnified a further " + fmt(mag) + "x about the reference state");
+    return;
+  }
   document.getElementById("magnote").textContent = mag === 1 ? "true scale (magnification 1)" :
     "displacements magnified " + fmt(mag) + "x about their moving mean (over " +
     (D.meanWindow > 0 ? fmt(D.meanWindow) + " s, one excitation period" : "the whole run") + ")";
 }
 function frameAt(t) {
-  let lo = 0, hi = F - 1;
-  while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (D.t[mid] <= t) lo = mid; else hi = mid; }
-  return Math.abs(D.t[hi] - t) < Math.abs(D.t[lo] - t) ? hi : lo;
+  let a = fLo, b = fHi;
+  if (MODES) {  // the phase on the cycle: the nearest frame, going round (2 pi after the last is the first)
+    const n = fHi - fLo + 1, step = 2 * Math.PI / n, k = Math.round((((t % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI)) / step) % n;
+    return fLo + k;
+  }
+  while (b - a > 1) { const mid = (a + b) >> 1; if (D.t[mid] <= t) a = mid; else b = mid; }
+  return Math.abs(D.t[b] - t) < Math.abs(D.t[a] - t) ? b : a;
 }
 function tick(now) {
   if (playing) {
     if (last !== null) {
-      simTime += (now - last) / 1000 * Number(speedSel.value);
-      if (simTime > D.t[F - 1]) simTime = D.t[0] + (D.steady ? (simTime - D.t[F - 1]) % Math.max(1e-300, D.t[F - 1] - D.t[0]) : 0);
+      simTime += (now - last) / 1000 * Number(speedSel.value) * (MODES ? Math.PI : 1);  // modes: a cycle in 2 s
+      if (MODES) simTime %= 2 * Math.PI;
+      else if (simTime > D.t[F - 1]) simTime = D.t[0] + (D.steady ? (simTime - D.t[F - 1]) % Math.max(1e-300, D.t[F - 1] - D.t[0]) : 0);
       frame = frameAt(simTime);
     }
     last = now;
@@ -348,15 +371,34 @@ let drag = null;
 view.onmousedown = e => { drag = [e.clientX, e.clientY]; autoRotate = false; };
 window.onmouseup = () => { drag = null; };
 view.onmousemove = e => { if (!drag || !D.spatial) return; az += (e.clientX - drag[0]) * 0.01; el = Math.max(-1.5, Math.min(1.5, el + (e.clientY - drag[1]) * 0.01)); drag = [e.clientX, e.clientY]; draw(); };
-// #t=1.25&mag=1: open paused at that time with that magnification.
+// The mode selector of a modes page: the mode's frames, its eigenvalue and frequencies.
+function selectMode(k) {
+  cur = k; fLo = MODES[k].first; fHi = MODES[k].first + MODES[k].count - 1;
+  slider.min = fLo; slider.max = fHi; frame = fLo; simTime = D.t[fLo];
+  modeSel.value = String(k);
+  document.getElementById("modeinfo").textContent = MODES[k].label + ": " + MODES[k].text;
+  setMag(mag);
+}
+let modeSel = null;
+if (MODES) {
+  modeSel = document.createElement("select");
+  modeSel.id = "modesel";
+  MODES.forEach((m, k) => { const o = document.createElement("option"); o.value = String(k); o.textContent = m.label; modeSel.appendChild(o); });
+  const lab = document.createElement("label"); lab.textContent = "mode "; lab.appendChild(modeSel);
+  document.getElementById("bar").insertBefore(lab, document.getElementById("bar").firstChild);
+  modeSel.onchange = () => { selectMode(Number(modeSel.value)); draw(); };
+}
+// #t=1.25&mag=1: open paused at that time with that magnification (a modes page: #mode=2&phase=1.57).
 const q = new URLSearchParams(location.hash.slice(1));
+if (MODES) { const k = q.has("mode") ? Math.round(Number(q.get("mode"))) : 1; selectMode(isFinite(k) ? Math.max(0, Math.min(MODES.length - 1, k - 1)) : 0); }
 setMag(q.has("mag") ? Number(q.get("mag")) : mag);
 if (q.has("az")) az = Number(q.get("az"));
+if (MODES && q.has("phase")) { playing = false; playBtn.textContent = "play"; autoRotate = false; frame = frameAt(Number(q.get("phase"))); simTime = D.t[frame]; }
 if (q.has("t")) { playing = false; playBtn.textContent = "play"; autoRotate = false; frame = frameAt(Number(q.get("t"))); simTime = D.t[frame]; }
 draw();
-let legend = "Arrows: " + (D.shapes.some(s => s.kind === "arrow") ? "each drawn to its own scale (the bars top left)." : "none.");
+let legend = MODES ? "Mode shapes: no forces are drawn." : "Arrows: " + (D.shapes.some(s => s.kind === "arrow") ? "each drawn to its own scale (the bars top left)." : "none.");
 if (D.contacts.length) legend += " Contact modes on the timeline (" + D.contacts.join(", ") + "): stick green, slip orange, flight red, contact blue; events are the ticks above.";
-legend += " " + F + " frames of " + D.rows + " time-series rows.";
+legend += MODES ? " " + MODES.length + " modes, " + MODES[0].count + " frames per cycle." : " " + F + " frames of " + D.rows + " time-series rows.";
 document.getElementById("legend").textContent = legend;
 requestAnimationFrame(tick);
 </script></body></html>

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -281,6 +282,194 @@ Scene read_scene(const fs::path& dir, int max_frames) {
     s.forces.push_back(std::move(f));
     s.modes.push_back(table.texts[r]);
   }
+  return s;
+}
+
+Scene read_modes_scene(const fs::path& dir, int max_frames) {
+  const std::string d = dir.string();
+  const std::string rerun = "the directory looks half-written: rerun pcsim modes";
+  const fs::path mj = dir / "modes.json";
+  std::error_code ec;
+  if (!fs::exists(mj, ec))
+    throw InputError(d + ": no modes.json (a `pcsim modes --vary` directory has only the traced "
+                         "eigenvalues: nothing to animate; run pcsim modes without --vary)");
+  const nlohmann::json j = read_json(mj, rerun);
+  auto bad = [&](const std::string& what) { return InputError(mj.string() + ": " + what + "; " + rerun); };
+  if (!j.is_object() || !j.contains("modes") || !j["modes"].is_array() || !j.contains("reference") ||
+      !j["reference"].is_object() || !j["reference"].contains("q") || !j["reference"]["q"].is_object() ||
+      !j.contains("coordinates") || !j["coordinates"].is_array())
+    throw bad("expected pcsim modes' modes.json (modes, reference.q, coordinates)");
+  Scene s;
+  s.steady = true;  // each mode's cycle is looped
+  s.title = j.value("case", std::string("modes"));
+  s.model = j.value("model", std::string("model"));
+  const fs::path model_file = dir / "model.toml";
+  if (!fs::exists(model_file, ec))
+    throw InputError(d + ": no model.toml (the model of the modes, which pcsim modes writes since pcsim "
+                         "animate draws modes): rerun pcsim modes to animate them");
+  {
+    std::ifstream in(model_file);
+    std::string first;
+    std::getline(in, first);
+    const std::string prefix = "# pcsim modes: the ";
+    s.model_file = first.rfind(prefix, 0) == 0 ? first.substr(prefix.size()) : model_file.string();
+  }
+  const modelfile::DrawEvaluator ev(model_file);
+  if (ev.spec().empty())
+    throw InputError(d + ": the model '" + s.model + "' has nothing to draw: add a [model.draw] "
+                     "table (points, lines, polygons, circles, force arrows; README, \"pcsim "
+                     "animate\") to the " + s.model_file + ", then rerun pcsim modes");
+  s.spec = ev.spec();
+  s.spatial = s.spec.spatial;
+  s.magnify = 1;
+  if (j["modes"].empty()) throw bad("no modes (a tangent space of dimension 0): nothing to animate");
+
+  // The inputs: t (the excitation's phase when held at one, else 0), q and q_d of the reference,
+  // the parameters linearized at (their defaults where modes.json has none).
+  const auto& names = ev.input_names();
+  const auto& coords = ev.coordinates();
+  const std::size_t nc = coords.size(), n_q = 1 + 2 * nc;
+  const auto& ref = j["reference"];
+  double t_ref = 0;
+  if (j.contains("excitation") && j["excitation"].is_object() && j["excitation"].value("mode", "") == "phase" &&
+      j["excitation"]["phase"].is_number() && j["excitation"]["period"].is_number())
+    t_ref = j["excitation"]["phase"].get<double>() / (2 * 3.14159265358979323846) * j["excitation"]["period"].get<double>();
+  std::vector<double> inputs(names.size(), 0.0);
+  std::vector<int> q_input(nc, -1);  // the input index of each coordinate
+  for (std::size_t i = 0; i < n_q; ++i) {
+    const std::string& nm = names[i];
+    if (nm == "t") {
+      inputs[i] = t_ref;
+      continue;
+    }
+    const bool vel = nm.size() > 2 && nm.compare(nm.size() - 2, 2, "_d") == 0;
+    const nlohmann::json& table = vel ? ref.value("qd", nlohmann::json::object()) : ref["q"];
+    if (!table.is_object() || !table.contains(nm) || !table[nm].is_number())
+      throw InputError(mj.string() + ": no reference value of '" + nm + "', which the model '" + s.model +
+                       "' of model.toml has; the directory mixes two models: rerun pcsim modes");
+    inputs[i] = table[nm].get<double>();
+    if (!vel)
+      for (std::size_t c = 0; c < nc; ++c)
+        if (coords[c] == nm) q_input[c] = static_cast<int>(i);
+  }
+  const nlohmann::json params = j.contains("parameters") && j["parameters"].is_object() ? j["parameters"]
+                                                                                       : nlohmann::json::object();
+  for (std::size_t i = n_q; i < names.size(); ++i) {
+    inputs[i] = ev.parameter_defaults()[i - n_q].second;
+    if (params.contains(names[i]) && params[names[i]].is_number()) inputs[i] = params[names[i]].get<double>();
+  }
+  const std::size_t K = ev.size(), P = s.spec.points.size();
+  std::size_t arrows = 0;
+  for (const auto& sh : s.spec.shapes) arrows += sh.kind == modelfile::DrawShape::Kind::arrow;
+  std::vector<double> base(K);
+  ev.evaluate(inputs, base.data());
+  std::vector<double> ref_points(base.begin(), base.begin() + static_cast<std::ptrdiff_t>(3 * P));
+  // The drawing's size at the reference: the span of its points (and circles' diameters).
+  double extent = 0;
+  for (std::size_t k = 0; k < 3; ++k) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t p = 0; p < P; ++p)
+      if (std::isfinite(ref_points[3 * p + k])) {
+        lo = std::min(lo, ref_points[3 * p + k]);
+        hi = std::max(hi, ref_points[3 * p + k]);
+      }
+    if (hi > lo) extent = std::max(extent, hi - lo);
+  }
+  {
+    std::size_t vi = 3 * P;
+    for (const auto& sh : s.spec.shapes) {
+      if (sh.kind == modelfile::DrawShape::Kind::circle && std::isfinite(base[vi])) extent = std::max(extent, 2 * std::abs(base[vi]));
+      vi += sh.kind == modelfile::DrawShape::Kind::circle ? 1 : sh.kind == modelfile::DrawShape::Kind::arrow ? 3 : 0;
+    }
+  }
+  if (!(extent > 0)) extent = 1;
+
+  const std::size_t n_modes = j["modes"].size();
+  const std::size_t per = static_cast<std::size_t>(std::clamp<long>(max_frames / static_cast<long>(n_modes), 8, 48));
+  const double two_pi = 2 * 3.14159265358979323846;
+  auto at = [&](const std::vector<double>& vr, const std::vector<double>& vi, double a, double phi, std::vector<double>& out) {
+    std::vector<double> in = inputs;
+    for (std::size_t c = 0; c < nc; ++c)
+      if (q_input[c] >= 0) in[static_cast<std::size_t>(q_input[c])] += a * (vr[c] * std::cos(phi) - vi[c] * std::sin(phi));
+    out.assign(K, 0.0);
+    ev.evaluate(in, out.data());
+  };
+  auto largest_move = [&](const std::vector<double>& v) {
+    double m = 0;
+    for (std::size_t k = 0; k < 3 * P; ++k)
+      if (std::isfinite(v[k])) m = std::max(m, std::abs(v[k] - ref_points[k]));
+    return m;
+  };
+  double qscale = 1;
+  for (std::size_t c = 0; c < nc; ++c)
+    if (q_input[c] >= 0) qscale = std::max(qscale, std::abs(inputs[static_cast<std::size_t>(q_input[c])]));
+  std::vector<double> vals;
+  for (std::size_t m = 0; m < n_modes; ++m) {
+    const nlohmann::json& md = j["modes"][m];
+    if (!md.is_object() || !md.contains("shape") || !md["shape"].is_object()) throw bad("a mode without a shape");
+    std::vector<double> vr(nc, 0.0), vim(nc, 0.0);
+    for (std::size_t c = 0; c < nc; ++c) {
+      const auto& sh = md["shape"];
+      if (!sh.contains(coords[c]) || !sh[coords[c]].is_object() || !sh[coords[c]]["re"].is_number() ||
+          !sh[coords[c]]["im"].is_number())
+        throw InputError(mj.string() + ": mode " + std::to_string(m + 1) + " has no shape component '" + coords[c] +
+                         "', which the model of model.toml has; the directory mixes two models: rerun pcsim modes");
+      vr[c] = sh[coords[c]]["re"].get<double>();
+      vim[c] = sh[coords[c]]["im"].get<double>();
+    }
+    // The amplitude: the largest drawn displacement (probed with a small amplitude, where the
+    // drawing is linear in it) scaled to 15% of the drawing's size.
+    const double h = 1e-6 * qscale;
+    double d1 = 0;
+    for (std::size_t f = 0; f < per; ++f) {
+      at(vr, vim, h, two_pi * double(f) / double(per), vals);
+      d1 = std::max(d1, largest_move(vals) / h);
+    }
+    ModePage pg;
+    const std::string kind = md.value("kind", std::string("mode"));
+    const int number = md.value("mode", static_cast<int>(m + 1));
+    pg.label = "mode " + std::to_string(number) + " (" + kind + ")";
+    const double re = md.value("re", 0.0), im = md.value("im", 0.0);
+    std::string text = "eigenvalue " + format_significant(re, 6) +
+                       (md.value("pair", false) ? " +- " + format_significant(im, 6) + "i" : "") + " 1/s";
+    auto numtext = [&](const char* key) {
+      return md.contains(key) && md[key].is_number() ? format_significant(md[key].get<double>(), 6) : std::string("-");
+    };
+    text += "; natural frequency " + numtext("natural_frequency_rad_s") + " rad/s (" + numtext("natural_frequency_hz") +
+            " Hz); damped frequency " + numtext("damped_frequency_rad_s") + " rad/s; damping ratio " + numtext("damping_ratio");
+    if (md.contains("dominant") && md["dominant"].is_array() && !md["dominant"].empty()) {
+      text += "; dominant:";
+      for (const auto& dname : md["dominant"])
+        if (dname.is_string()) text += " " + dname.get<std::string>();
+    }
+    text += md.value("pair", false) ? ". Shown: q = q_ref + a Re(v e^{i phi}), phi = omega tau over one cycle."
+                                    : ". A real eigenvalue (no oscillation): shown as the standing oscillation "
+                                      "q = q_ref + a v cos(phi) of its shape.";
+    pg.text = text;
+    if (d1 > 0 && std::isfinite(d1)) {
+      pg.amplitude = 0.15 * extent / d1;
+      pg.amplitude_text = "mode shape amplitude a = " + format_significant(pg.amplitude, 4) +
+                          " (largest component of the shape = 1): its largest drawn displacement is 15% of the "
+                          "drawing's size (" + format_significant(0.15 * extent, 4) + "); not to scale with any real motion";
+    } else {
+      pg.amplitude = 0;
+      pg.amplitude_text = "this mode moves no drawn point (its shape is in coordinates the drawing does not use)";
+    }
+    pg.first = s.t.size();
+    pg.count = per;
+    for (std::size_t f = 0; f < per; ++f) {
+      const double phi = two_pi * double(f) / double(per);
+      at(vr, vim, pg.amplitude, phi, vals);
+      s.t.push_back(phi);
+      s.row.push_back(0);
+      s.values.push_back(vals);
+      s.mean.push_back(ref_points);
+      s.forces.push_back(std::vector<double>(arrows, std::nan("")));
+      s.modes.push_back({});
+    }
+    s.mode_pages.push_back(pg);
+  }
+  s.rows = n_modes;
   return s;
 }
 

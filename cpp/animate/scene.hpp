@@ -16,6 +16,15 @@ struct Event {
   std::string kind, constraint, mode_after;
 };
 
+/// One mode of a `pcsim modes` directory: its frames are one cycle of the shape.
+struct ModePage {
+  std::string label;            ///< "mode 2 (oscillatory)"
+  std::string text;             ///< its eigenvalue, frequencies, damping, dominant coordinates
+  std::size_t first = 0, count = 0;  ///< its frames
+  double amplitude = 0;         ///< a in q = q_ref + a Re(v e^{i phi})
+  std::string amplitude_text;   ///< how a was chosen, shown on screen
+};
+
 struct Scene {
   std::string title;            ///< the case's name
   std::string model;            ///< the model's name
@@ -37,6 +46,9 @@ struct Scene {
   std::vector<Event> events;
   std::size_t rows = 0;         ///< rows of the time series
   std::string model_file;       ///< where the model came from (model.toml's first line)
+  /// A `pcsim modes` directory: per mode its cycle; t of a frame is then the phase phi (rad),
+  /// and mean the drawing at the reference state.
+  std::vector<ModePage> mode_pages;
 };
 
 /// Reads the run directory `dir` and evaluates its drawing at no more than `max_frames` frames
@@ -45,5 +57,11 @@ struct Scene {
 /// ("complete" not true, a torn time series), no model.toml, a model with nothing to draw (the
 /// message names the model file to add [model.draw] to), a bad drawing expression.
 Scene read_scene(const std::filesystem::path& dir, int max_frames);
+
+/// Reads a `pcsim modes` directory (modes.json, model.toml): per mode, frames of one cycle of
+/// q(phi) = q_ref + a Re(v e^{i phi}), v the mode shape over the coordinates (a real or zero
+/// mode: the standing oscillation v cos phi), a chosen so that the largest displacement of a
+/// drawn point is 15% of the drawing's size at the reference. Bad input: InputError (exit 2).
+Scene read_modes_scene(const std::filesystem::path& dir, int max_frames);
 
 }  // namespace pcsim::animate

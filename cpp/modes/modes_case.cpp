@@ -195,6 +195,7 @@ nlohmann::json case_modes(const sim::Case& c, const ModesOptions& o, Linearizati
   j["case"] = c.name;
   j["model"] = c.model->name();
   j["coordinates"] = coords;
+  j["parameters"] = c.setup.parameters;  // the values linearized at (pcsim animate draws with them)
   nlohmann::json q = nlohmann::json::object(), qd = nlohmann::json::object();
   for (int i = 0; i < n; ++i) {
     q[coords[i]] = r.input.q[i];
@@ -314,6 +315,14 @@ nlohmann::json modes_case(const sim::Case& c, const ModesOptions& o) {
   if (out) {
     out->write("modes.json", j.dump(2) + "\n");
     out->write("modes.csv", modes_csv(j));
+    // The model the modes are of, as a model file, written as pcsim run writes it (pcsim
+    // animate draws the mode shapes with its [model.draw] table).
+    const std::string model_text = c.model->definition_text();
+    if (!model_text.empty()) {
+      std::string origin = c.model->origin();
+      std::replace_if(origin.begin(), origin.end(), [](char ch) { return ch == '\n' || ch == '\r'; }, ' ');
+      out->write("model.toml", "# pcsim modes: the " + origin + "\n" + model_text);
+    }
     out->commit();
   }
   return j;

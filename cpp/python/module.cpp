@@ -8,12 +8,15 @@
 // the GIL: nothing in them touches a Python object (the Python arguments are converted to C++
 // before, the results to Python after). The errors are the CLI's, as Python exceptions
 // (pcsim.InputError, pcsim.NumericalError, pcsim.IoError, defined in __init__.py).
+#include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -38,6 +41,7 @@
 #include "sim/result.hpp"
 #include "sim/run.hpp"
 #include "sim/vary.hpp"
+#include "modes/modes_case.hpp"
 #include "steady/response.hpp"
 #include "steady/steady_case.hpp"
 #include "study/sweep.hpp"
@@ -379,6 +383,16 @@ struct PySteady {
   std::string report;
 };
 
+/// pcsim modes' result: modes.json (or, with vary, modes_vary.json) as a dict, and its
+/// eigenvalues and mode shapes as complex arrays.
+struct PyModes {
+  py::dict data;
+  std::string report;
+  py::object eigenvalues, mode_eigenvalues, shapes, values;
+  std::vector<std::string> coordinates;
+  bool vary = false;
+};
+
 /// pcsim response's result: response.csv as a table (numbers; text fields as NaN, the text in
 /// `text`), response.json as a dict.
 struct PyResponse : Table {
@@ -592,6 +606,99 @@ class PyCase {
     return r;
   }
 
+  PyModes modes(const py::object& excitation, const py::object& cyclic, const py::object& vary,
+              const py::object& out) const {
+    // The options as pcsim modes' command line gives them (--excitation, --cyclic / --no-cyclic,
+    // --vary, --out): the same functions of cpp/modes compute and write them.
+    modes::ModesOptions o;
+    if (!excitation.is_none()) {
+      if (py::isinstance<py::bool_>(excitation) ||
+          !(py::isinstance<py::str>(excitation) || py::isinstance<py::int_>(excitation) || py::isinstance<py::float_>(excitation)))
+        throw py::type_error("excitation: expected \"off\" or a phase in rad (a float), got " + type_name(excitation));
+      if (py::isinstance<py::str>(excitation)) {
+        o.excitation = excitation.cast<std::string>();
+      } else {
+        const double phase = excitation.cast<double>();
+        if (!std::isfinite(phase)) raise_input("excitation: expected a finite phase in rad, got " + format_number(phase));
+        char b[40];
+        std::snprintf(b, sizeof b, "%.17g", phase);  // the double itself, as --excitation text
+        o.excitation = std::string(b);
+      }
+      if (o.excitation->empty()) raise_input("excitation: expected \"off\" or a phase in rad, got \"\"");
+    }
+    if (!cyclic.is_none()) o.cyclic = string_list(cyclic, "cyclic");  // [] = --no-cyclic
+    std::optional<modes::VarySpec> spec;
+    if (!vary.is_none()) {
+      if (!py::isinstance<py::str>(vary))
+        throw py::type_error("vary: expected a str 'KEY=START:STOP:COUNT', got " + type_name(vary));
+      spec = modes::parse_vary(vary.cast<std::string>());
+    }
+    o.out_dir = out_path(out);
+    nlohmann::json j;
+    std::string report;
+    without_gil([&] {
+      if (spec) {
+        j = modes::modes_vary(*case_, o, *spec);
+        report = modes::vary_report(j);
+      } else {
+        j = modes::modes_case(*case_, o);
+        report = modes::modes_report(*case_, j);
+      }
+    });
+    PyModes r;
+    r.vary = static_cast<bool>(spec);
+    r.data = to_python(j).cast<py::dict>();
+    r.report = std::move(report);
+    using cplx = std::complex<double>;
+    if (spec) {
+      // eigenvalues[step, track], the tracks paired by continuity; values the key's values.
+      const auto& tracks = j.at("tracks");
+      const auto& vals = j.at("values");
+      const py::ssize_t steps = static_cast<py::ssize_t>(vals.size()), nt = static_cast<py::ssize_t>(tracks.size());
+      py::array_t<cplx> ev({steps, nt});
+      auto e = ev.mutable_unchecked<2>();
+      for (py::ssize_t t = 0; t < nt; ++t)
+        for (py::ssize_t k = 0; k < steps; ++k) {
+          const auto& re = tracks[static_cast<std::size_t>(t)]["re"][static_cast<std::size_t>(k)];
+          const auto& im = tracks[static_cast<std::size_t>(t)]["im"][static_cast<std::size_t>(k)];
+          e(k, t) = cplx(re.is_number() ? re.get<double>() : NAN, im.is_number() ? im.get<double>() : NAN);
+        }
+      py::array_t<double> v(steps);
+      auto vv = v.mutable_unchecked<1>();
+      for (py::ssize_t k = 0; k < steps; ++k) vv(k) = vals[static_cast<std::size_t>(k)].get<double>();
+      r.eigenvalues = ev;
+      r.values = v;
+      r.mode_eigenvalues = py::none();
+      r.shapes = py::none();
+      return r;
+    }
+    r.coordinates = j.at("coordinates").get<std::vector<std::string>>();
+    const auto& all = j.at("eigenvalues");
+    py::array_t<cplx> ev(static_cast<py::ssize_t>(all.size()));
+    auto e = ev.mutable_unchecked<1>();
+    for (std::size_t k = 0; k < all.size(); ++k)
+      e(static_cast<py::ssize_t>(k)) = cplx(all[k]["re"].get<double>(), all[k]["im"].get<double>());
+    const auto& ms = j.at("modes");
+    const py::ssize_t nm = static_cast<py::ssize_t>(ms.size()), nc = static_cast<py::ssize_t>(r.coordinates.size());
+    py::array_t<cplx> lam(nm);
+    py::array_t<cplx> shapes({nm, nc});
+    auto l = lam.mutable_unchecked<1>();
+    auto sh = shapes.mutable_unchecked<2>();
+    for (py::ssize_t k = 0; k < nm; ++k) {
+      const auto& m = ms[static_cast<std::size_t>(k)];
+      l(k) = cplx(m["re"].get<double>(), m["im"].get<double>());
+      for (py::ssize_t i = 0; i < nc; ++i) {
+        const auto& c = m["shape"][r.coordinates[static_cast<std::size_t>(i)]];
+        sh(k, i) = cplx(c["re"].get<double>(), c["im"].get<double>());
+      }
+    }
+    r.eigenvalues = ev;
+    r.mode_eigenvalues = lam;
+    r.shapes = shapes;
+    r.values = py::none();
+    return r;
+  }
+
   PyResponse response(const std::string& vary, int periods, const std::string& method,
                       unsigned jobs, bool summaries, const py::object& out) const {
     if (periods < 1) raise_input("periods: expected an integer >= 1, got " + std::to_string(periods));
@@ -744,6 +851,26 @@ PYBIND11_MODULE(_pcsim, m) {
       .def("__getitem__", [](const PySteady& s, const std::string& k) { return s.data[py::str(k)]; },
            py::arg("key"), "A key of steady.json.");
 
+  py::class_<PyModes>(m, "ModesResult",
+                      "pcsim modes' result: modes.json's content (with vary: modes_vary.json's), the "
+                      "eigenvalues and the mode shapes as complex NumPy arrays.")
+      .def_readonly("data", &PyModes::data, "modes.json's content (with vary: modes_vary.json's) as dicts and lists.")
+      .def_readonly("report", &PyModes::report, "The engineer's report pcsim modes prints.")
+      .def_readonly("eigenvalues", &PyModes::eigenvalues,
+                    "Every eigenvalue on the tangent space (modes.json's 'eigenvalues', both members of a "
+                    "pair), complex128, 1-D; with vary: [step, track], the tracks paired by continuity.")
+      .def_readonly("mode_eigenvalues", &PyModes::mode_eigenvalues,
+                    "Per mode (modes.json's 'modes': a pair once, its +i member): its eigenvalue, complex128; "
+                    "None with vary.")
+      .def_readonly("shapes", &PyModes::shapes,
+                    "The mode shapes: [mode, coordinate] complex128 (largest component 1), rows aligned "
+                    "with mode_eigenvalues, columns with coordinates; None with vary.")
+      .def_readonly("coordinates", &PyModes::coordinates, "The coordinates (the columns of shapes).")
+      .def_readonly("values", &PyModes::values, "With vary: the key's values (the rows of eigenvalues); else None.")
+      .def_readonly("vary", &PyModes::vary, "Whether this is a trace over a key (vary=...).")
+      .def("__getitem__", [](const PyModes& s, const std::string& k) { return s.data[py::str(k)]; },
+           py::arg("key"), "A key of modes.json (modes_vary.json).");
+
   py::class_<PyResponse>(m, "ResponseResult",
                          "pcsim response's result: response.csv as a table, response.json.")
       .def_readonly("columns", &PyResponse::columns, "response.csv's header.")
@@ -800,6 +927,16 @@ PYBIND11_MODULE(_pcsim, m) {
            py::arg("out") = py::none(),
            "The periodic steady state as pcsim steady finds it; a pcsim.SteadyResult. Releases "
            "the GIL.")
+      .def("modes", &PyCase::modes, py::arg("excitation") = py::none(), py::arg("cyclic") = py::none(),
+           py::arg("vary") = py::none(), py::arg("out") = py::none(),
+           "Natural frequencies, damping ratios and mode shapes about a rest state or a steady "
+           "motion, as pcsim modes computes them (the same functions); a pcsim.ModesResult. "
+           "excitation = 'off' or a phase in rad (None: the case's [modes] excitation), cyclic = "
+           "a list of coordinate names ([]: none, as --no-cyclic; None: the case's [modes] cyclic), "
+           "vary = 'KEY=START:STOP:COUNT' traces the eigenvalues over a key (as --vary); with out, "
+           "also writes the CLI's files into that directory. Releases the GIL. Raises "
+           "pcsim.InputError when the reference is not a rest state or steady motion, "
+           "pcsim.NumericalError when the linearization does not exist.")
       .def("response", &PyCase::response, py::arg("vary"), py::arg("periods") = 1,
            py::arg("method") = "auto", py::arg("jobs") = 0, py::arg("summaries") = true,
            py::arg("out") = py::none(),

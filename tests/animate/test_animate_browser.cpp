@@ -159,3 +159,39 @@ BOOST_AUTO_TEST_CASE(a_spatial_drawing_is_drawn_in_3d_where_the_time_series_puts
                                   a["pixels"]["bob"][1].get<double>() - b["pixels"]["bob"][1].get<double>());
   BOOST_TEST(moved > 10.0);
 }
+
+// A `pcsim modes` page (issue 24's modes, drawn by the model's [model.draw]): opened at a mode
+// and a phase, the masses of the hanging double pendulum are drawn at q_ref + a Re(v e^{i phi}),
+// computed here from modes.json (the reference, the shape) and the page's amplitude and phase.
+BOOST_AUTO_TEST_CASE(a_mode_page_draws_the_shape_about_the_reference_at_the_phase_asked_for) {
+  BOOST_TEST_REQUIRE(fs::exists(chromium()));
+  pcsim_test::TempDir scratch("animate_modes_page");
+  const fs::path out = scratch.path / "m";
+  Result r = run_pcsim("modes '" + (kSource / "cases/double_pendulum.toml").string() + "' --out '" + out.string() +
+                           "' --set initial.x1=0 --set initial.y1=-1 --set initial.x2=0 --set initial.y2=-1.7",
+                       kSource);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  r = run_pcsim("animate '" + out.string() + "'", kSource);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  std::ifstream in(out / "modes.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json s = page_state(out / "animation.html", "mode=1&phase=2.0", scratch.path);
+  BOOST_TEST_REQUIRE(s.is_object(), "the page wrote no state");
+  BOOST_TEST(s.at("mode").get<int>() == 1);
+  const double phi = s.at("phase").get<double>(), a = s.at("amplitude").get<double>();
+  BOOST_TEST(std::abs(phi - 2.0) <= 3.14159265358979 / 48 + 1e-9);  // the nearest of 48 frames per cycle
+  BOOST_TEST(a > 0);
+  const double res = pixel(s);
+  BOOST_TEST(res < 0.01);  // a 1000-pixel view of a 1.7 m drawing
+  const auto& shape = j["modes"][0]["shape"];
+  auto expect = [&](const char* c) {
+    return j["reference"]["q"][c].get<double>() +
+           a * (shape[c]["re"].get<double>() * std::cos(phi) - shape[c]["im"].get<double>() * std::sin(phi));
+  };
+  BOOST_TEST(std::abs(s["points"]["m1"][0].get<double>() - expect("x1")) <= res);
+  BOOST_TEST(std::abs(s["points"]["m1"][1].get<double>() - expect("y1")) <= res);
+  BOOST_TEST(std::abs(s["points"]["m2"][0].get<double>() - expect("x2")) <= res);
+  BOOST_TEST(std::abs(s["points"]["m2"][1].get<double>() - expect("y2")) <= res);
+  // visible: the lower mass (the shape's largest component) moves tens of pixels at cos(phi) = -0.42
+  BOOST_TEST(std::abs(s["points"]["m2"][0].get<double>() - j["reference"]["q"]["x2"].get<double>()) / res >= 20);
+}

@@ -258,3 +258,116 @@ BOOST_AUTO_TEST_CASE(a_steady_state_animates_as_one_looped_period, *boost::unit_
   BOOST_TEST(s.steady);
   BOOST_TEST(std::abs((s.t.back() - s.t.front()) - 2 * M_PI / 280.0) < 1e-9);  // one excitation period
 }
+
+// A `pcsim modes` directory (issue 24) animates as its mode shapes: modes writes model.toml
+// beside modes.json as runs do, the page carries one cycle per mode; bad modes directories
+// (no model.toml, a --vary trace, a model with nothing to draw, a torn modes.json, --video)
+// exit 2 and leave the directory as it was.
+BOOST_AUTO_TEST_CASE(a_modes_directory_animates_its_mode_shapes_and_bad_ones_exit_2) {
+  pcsim_test::TempDir scratch("animate_modes_cli");
+  const fs::path w = scratch.path;
+  const std::string at_rest = " --set initial.x1=0 --set initial.y1=-1 --set initial.x2=0 --set initial.y2=-1.7";
+  const std::string modes_cmd = "modes '" + (kSource / "cases/double_pendulum.toml").string() + "' --out '" +
+                                (w / "m").string() + "'" + at_rest;
+  Result r = run_pcsim(modes_cmd, kSource);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  BOOST_TEST(pcsim_test::read(w / "m" / "model.toml").rfind("# pcsim modes: the model file ", 0) == 0);
+  BOOST_TEST(pcsim_test::has(pcsim_test::read(w / "m" / "model.toml"), "[model.draw]"));
+  BOOST_TEST(pcsim_test::has(pcsim_test::read(w / "m" / "modes.json"), "\"parameters\""));
+  r = run_pcsim("animate m", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "2 modes, one cycle of 48 frames each"), r.out);
+  const std::string html = pcsim_test::read(w / "m" / "animation.html");
+  BOOST_TEST(pcsim_test::has(html, "default-src 'none'"));
+  BOOST_TEST(pcsim_test::has(html, "\"modePages\""));
+  BOOST_TEST(pcsim_test::has(html, "mode 2 (oscillatory)"));
+  BOOST_TEST(pcsim_test::has(html, "natural frequency 5.33862 rad/s"));
+  // modes can be rerun into the directory (animation.html and model.toml are pcsim's files)
+  r = run_pcsim(modes_cmd, kSource);
+  BOOST_TEST(r.status == 0, r.out);
+
+  // In process: every frame of mode 2 is the drawing at q_ref + a Re(v e^{i phi}) (the masses
+  // are drawn at (x1, y1), (x2, y2)), a chosen to make the largest displacement 15% of the
+  // drawing's 1.7 m height (the masses hang at y = -1 and -1.7 below the pivot).
+  r = run_pcsim("animate m", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  {
+    std::ifstream in(w / "m" / "modes.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    const pcsim::animate::Scene s = pcsim::animate::read_modes_scene(w / "m", 2000);
+    BOOST_TEST_REQUIRE(s.mode_pages.size() == 2u);
+    const auto& pg = s.mode_pages[1];
+    double vmax = 0;
+    for (const char* c : {"x1", "y1", "x2", "y2"}) vmax = std::max(vmax, j["modes"][1]["shape"][c]["abs"].get<double>());
+    BOOST_TEST(std::abs(pg.amplitude * vmax - 0.15 * 1.7) <= 1e-9);
+    std::size_t m1 = 0, m2 = 0;
+    for (std::size_t i = 0; i < s.spec.points.size(); ++i) {
+      if (s.spec.points[i].name == "m1") m1 = i;
+      if (s.spec.points[i].name == "m2") m2 = i;
+    }
+    for (std::size_t f = pg.first; f < pg.first + pg.count; ++f) {
+      const double phi = s.t[f];
+      auto expect = [&](const char* c) {
+        const auto& v = j["modes"][1]["shape"][c];
+        return j["reference"]["q"][c].get<double>() +
+               pg.amplitude * (v["re"].get<double>() * std::cos(phi) - v["im"].get<double>() * std::sin(phi));
+      };
+      BOOST_TEST(std::abs(s.values[f][3 * m1] - expect("x1")) <= 1e-12);
+      BOOST_TEST(std::abs(s.values[f][3 * m1 + 1] - expect("y1")) <= 1e-12);
+      BOOST_TEST(std::abs(s.values[f][3 * m2] - expect("x2")) <= 1e-12);
+      BOOST_TEST(std::abs(s.values[f][3 * m2 + 1] - expect("y2")) <= 1e-12);
+    }
+  }
+
+  auto before = listing(w / "m");
+  r = run_pcsim("animate m --video m.mp4", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "--video"), r.out);
+  BOOST_TEST(listing(w / "m") == before);
+  BOOST_TEST(!fs::exists(w / "m.mp4"));
+
+  // no model.toml (a modes directory written before it was written)
+  fs::copy(w / "m", w / "old", fs::copy_options::recursive);
+  fs::remove(w / "old" / "model.toml");
+  fs::remove(w / "old" / "animation.html");
+  before = listing(w / "old");
+  r = run_pcsim("animate old", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "no model.toml"), r.out);
+  BOOST_TEST(listing(w / "old") == before);
+
+  // a torn modes.json
+  fs::copy(w / "m", w / "torn", fs::copy_options::recursive);
+  fs::remove(w / "torn" / "animation.html");
+  std::string mj = pcsim_test::read(w / "torn" / "modes.json");
+  mj.resize(mj.size() / 2);
+  std::ofstream(w / "torn" / "modes.json") << mj;
+  before = listing(w / "torn");
+  r = run_pcsim("animate torn", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "modes.json"), r.out);
+  BOOST_TEST(listing(w / "torn") == before);
+
+  // a --vary trace has no modes.json
+  r = run_pcsim("modes '" + (kSource / "cases/double_pendulum.toml").string() + "' --out '" + (w / "vary").string() +
+                    "'" + at_rest + " --vary parameters.L2=0.5:0.9:3", kSource);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  before = listing(w / "vary");
+  r = run_pcsim("animate vary", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "no modes.json"), r.out);
+  BOOST_TEST(listing(w / "vary") == before);
+
+  // a model with nothing to draw
+  std::ofstream(w / "spring.toml") << "[model]\nname = \"spring\"\ncoordinates = [\"x\"]\n[model.parameters]\nk = 1.0\n"
+                                      "[model.energy]\nkinetic = \"0.5*x_d^2\"\npotential = \"0.5*k*x^2\"\n";
+  std::ofstream(w / "spring_case.toml") << "model = \"spring.toml\"\n[initial]\nx = 0\n";
+  r = run_pcsim("modes spring_case.toml --out spring_modes", w);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  before = listing(w / "spring_modes");
+  r = run_pcsim("animate spring_modes", w);
+  BOOST_TEST(r.status == 2, r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "nothing to draw"), r.out);
+  BOOST_TEST(pcsim_test::has(r.out, "spring.toml"), r.out);
+  BOOST_TEST(listing(w / "spring_modes") == before);
+}

@@ -65,8 +65,8 @@ void animate(const AnimateArgs& a) {
     throw pcsim::InputError(a.dir + ": not a directory; expected the output directory of `pcsim "
                                     "run` or `pcsim steady`");
   const std::string owner = pcsim::directory_owner(dir);
-  if (owner != "run" && owner != "steady")
-    throw pcsim::InputError(a.dir + ": not the output directory of `pcsim run` or `pcsim steady` (" +
+  if (owner != "run" && owner != "steady" && owner != "modes")
+    throw pcsim::InputError(a.dir + ": not the output directory of `pcsim run`, `pcsim steady` or `pcsim modes` (" +
                             (owner.empty() ? std::string("it has no ") + pcsim::kOwnerMarker + " marker"
                                            : "it is pcsim " + owner + "'s") + ")");
   if (!(a.frames >= 2 && a.frames <= 100000))
@@ -78,8 +78,12 @@ void animate(const AnimateArgs& a) {
   // The run's lock while it is read and the page written: a run replacing the directory now is
   // refused, and a directory being written by one refuses this.
   const pcsim::DirectoryLock lock(fs::path(a.dir).lexically_normal());
+  if (owner == "modes" && !a.video.empty())
+    throw pcsim::InputError("--video: a pcsim modes directory is animated as a page only (a mode at a "
+                            "time, chosen on the page); drop --video");
   if (!a.video.empty()) check_video_path(a.video, dir);
-  pcsim::animate::Scene scene = pcsim::animate::read_scene(dir, a.frames);
+  pcsim::animate::Scene scene = owner == "modes" ? pcsim::animate::read_modes_scene(dir, a.frames)
+                                                 : pcsim::animate::read_scene(dir, a.frames);
   if (a.magnify > 0) scene.magnify = a.magnify;
   if (!a.video.empty()) {
     pcsim::animate::VideoOptions vo;
@@ -89,6 +93,12 @@ void animate(const AnimateArgs& a) {
   }
   const fs::path page = dir / "animation.html";
   pcsim::write_file_atomically(page, pcsim::animate::animation_html(scene));
+  if (!scene.mode_pages.empty()) {
+    std::printf("pcsim animate: case '%s' (model '%s'), %zu modes, one cycle of %zu frames each\n",
+                scene.title.c_str(), scene.model.c_str(), scene.mode_pages.size(), scene.mode_pages[0].count);
+    std::printf("  wrote %s\n", page.string().c_str());
+    return;
+  }
   std::printf("pcsim animate: case '%s' (model '%s'), %zu frames of %zu rows, t = %s .. %s s%s\n",
               scene.title.c_str(), scene.model.c_str(), scene.t.size(), scene.rows,
               pcsim::format_significant(scene.t.front(), 6).c_str(),
@@ -100,7 +110,7 @@ void animate(const AnimateArgs& a) {
 void setup(CLI::App& app) {
   auto args = std::make_shared<AnimateArgs>();
   CLI::App* sub = app.add_subcommand(
-      "animate", "Draw a run (pcsim run / pcsim steady output) by its model's [model.draw] table: "
+      "animate", "Draw a run (pcsim run / pcsim steady output; or the mode shapes of pcsim modes) by its model's [model.draw] table: "
                  "writes DIR/animation.html, one self-contained page (no network), and a video with --video");
   sub->add_option("dir", args->dir, "the run's output directory, e.g. out/sieve_1995")->required();
   sub->add_option("--video", args->video, "also render the frames to FILE.mp4 or FILE.gif with ffmpeg")

@@ -68,6 +68,7 @@ class IoError(Error, OSError):
 from ._pcsim import (  # noqa: E402  (the exceptions above must exist first)
     Case,
     Model,
+    ModesResult,
     ResponseResult,
     RunResult,
     SteadyResult,
@@ -82,6 +83,7 @@ __all__ = [
     "InputError",
     "IoError",
     "Model",
+    "ModesResult",
     "NumericalError",
     "ResponseResult",
     "RunResult",
