@@ -100,6 +100,44 @@ class Dynamics {
   Eigen::MatrixXd M, g, D, G, A;
   Eigen::VectorXd h, Q, f, g0, gamma, G0, R, qdd, lambda;
 
+  /// The numerical rank of the active rows used by the last solve() (s when the full-rank
+  /// structured or dense solve applied; from the rank-revealing solve otherwise) and whether the
+  /// rank-revealing solve was taken (issue 21). When rank < s the multipliers λ are the
+  /// minimum-norm split of R (statically indeterminate: null space of dimension s − rank), R and
+  /// q̈ are unique.
+  int rank = 0;
+  bool rank_revealing = false;
+
+  /// The rank-revealing reaction solve (issue 21), for any rank of g: with M = L Lᵀ, the
+  /// row-scaled B = S_r g L⁻ᵀ (S_r = diag(1/|g_r|)) and b = −S_r G0, its SVD B = Σ σ_i v_i u_iᵀ
+  /// gives y = Σ u_i φ_i (v_iᵀ b)/σ_i with the filter φ_i = σ_i²/(σ_i² + μ²),
+  /// μ = kFilter σ_max, and R = L y, q̈ = M⁻¹ f + L⁻ᵀ y, λ = S_r Σ v_i φ_i (v_iᵀ b)/σ_i².
+  /// Proof of uniqueness (README text, /notes): q̈ − M⁻¹f = M⁻¹ gᵀ λ and g q̈ = −γ give
+  /// (g M⁻¹ gᵀ) λ = −G0; if λ and λ' both solve it, δ = λ − λ' has δᵀ g M⁻¹ gᵀ δ = |L⁻¹ gᵀ δ|² = 0,
+  /// so gᵀ δ = 0 and R = gᵀ λ = gᵀ λ'. rank counts σ_i > kRankTol σ_max.
+  ModelIssue solve_rank_revealing();
+  /// Relative filter μ/σ_max: the rounding in b (≈ eps |b|) is amplified by at most eps/μ =
+  /// 2e-6 relative, and a direction with σ > 3e-7 σ_max (where the fast path hands over) is
+  /// changed by at most (μ/σ)² ≈ 1e-7 relative: q̈ is continuous to that at the hand-over and
+  /// smooth (a rational function of σ) across a singular position, where the unfiltered
+  /// solve would divide rounding by σ → 0.
+  static constexpr double kFilter = 1e-10;
+  /// Relative singular value below which a row counts as dependent (reported rank): about
+  /// sqrt(eps); rows that are exactly dependent give σ ≈ eps σ_max, far below.
+  static constexpr double kRankTol = 1.5e-8;
+  /// The structured (Cholesky) solve hands over to the rank-revealing one when the smallest
+  /// Cholesky pivot of g M⁻¹ gᵀ is below kSwitch times the largest (pivots ~ σ²: σ ratio
+  /// 3e-7). The fast path's own singularity test before issue 21, kept so that every model
+  /// that ran before takes exactly the same path (bit-for-bit references).
+  static constexpr double kSwitch = 1e-13;
+  /// After evaluate(): the rows (indices into the active set) that a column-pivoted QR of the
+  /// row-scaled gᵀ leaves outside its first `numerical_rank` pivots: the dependent rows named in
+  /// messages and rank reports.
+  std::vector<int> dependent_row_indices(int numerical_rank) const;
+  /// After evaluate(): the smallest singular value of g with its rows scaled to unit length (0
+  /// when s > n): how close the state is to a singular position.
+  double smallest_singular_value() const;
+
  private:
   ModelIssue fail(ModelIssue issue, std::string message);
   ModelIssue factorize_mass();
