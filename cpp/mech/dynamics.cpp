@@ -85,6 +85,7 @@ void Dynamics::resize_for(int s) {
   MinvgT_.resize(n_, s_);
   S_.resize(s_, s_);
   inv_s_.resize(s_);
+  sdiag_.resize(s_);
   lambda.resize(s_);
 }
 
@@ -315,7 +316,16 @@ bool Dynamics::structured_kernel() {
       S[j + i * s] = sij;  // the upper triangle (j <= i), as cholesky_upper reads
     }
   }
-  singular_s_ = !detail::cholesky_upper<(NS > 0 ? NS : 0)>(S, s, s, kSwitch, inv_s_.data());
+  double* sd = sdiag_.data();
+  PCSIM_UNROLL
+  for (int i = 0; i < s; ++i) sd[i] = S[i + i * s];
+  singular_s_ = !detail::cholesky_upper<(NS > 0 ? NS : 0)>(S, s, s, 1e-13, inv_s_.data());
+  // Hand over to the rank-revealing solve where a row is nearly a combination of the rows
+  // before it: its pivot U_jj² is the squared distance of row j (in the M⁻¹ metric) from the
+  // span of the earlier rows, U_jj²/S_jj = sin² of that angle (independent of the row's scale).
+  PCSIM_UNROLL
+  for (int i = 0; i < s && !singular_s_; ++i)
+    singular_s_ = !(1.0 < kSwitch * sd[i] * inv_s_[i] * inv_s_[i]) ? true : false;
   if (singular_s_) return true;
   double* lam = lambda.data();
   PCSIM_UNROLL
@@ -459,9 +469,12 @@ ModelIssue Dynamics::solve_rank_revealing() {
   for (int i = 0; i < sv.size(); ++i) {
     const double si = sv[i];
     if (si > kRankTol * smax) ++rank;
-    const double den = si * si + mu * mu;
-    ycoef[i] = den > 0.0 ? si * c[i] / den : 0.0;   // φ_i c_i / σ_i
-    lcoef[i] = den > 0.0 ? c[i] / den : 0.0;        // φ_i c_i / σ_i²
+    // φ = σ⁴/(σ⁴ + μ⁴): 1 − (μ/σ)⁴ above μ, a smooth cut below it.
+    const double s2 = si * si, den = s2 * s2 + mu * mu * mu * mu;
+    ycoef[i] = den > 0.0 ? s2 * si * c[i] / den : 0.0;  // φ_i c_i / σ_i
+    // λ along a dependent direction (σ at rounding level) is the indeterminate part: the
+    // minimum-norm split leaves it out.
+    lcoef[i] = den > 0.0 && si > kRankTol * smax ? s2 * c[i] / den : 0.0;  // φ_i c_i / σ_i²
   }
   const Eigen::VectorXd y = svd.matrixU() * ycoef;
   lambda = scale.asDiagonal() * (svd.matrixV() * lcoef);

@@ -73,11 +73,14 @@ ModelIssue project_state_rank_revealing(const Model& model, const std::vector<in
   // Gauss–Newton on the holonomic Φ with minimum-norm steps through the truncated SVD: where
   // rows are dependent (everywhere, or at a singular position) the step is taken in the span of
   // the independent directions only, so it stays bounded; Newton's quadratic convergence is
-  // kept where g has full rank. Truncation at 1e-10 σ_max (row-scaled): the rows' rounding
-  // (≈ eps) is amplified at most 1e-6 times, far below any drift the projection corrects.
+  // kept where g has full rank. Truncation at 1e-5 σ_max (row-scaled): a direction nearly
+  // lost at a singular position is not corrected (its residual, drift of 1e-9 or less, would be
+  // divided by σ: a step of O(1) in q or q̇ — A02 with N = 4 lost its whole kinetic energy in
+  // one such velocity projection with a truncation of 1e-10); the state is corrected along it
+  // once the position is regular again.
   const int n = model.n();
   const int s = static_cast<int>(active.size());
-  constexpr double kTrunc = 1e-10;
+  constexpr double kTrunc = 1e-5;
   dq = dv = 0.0;
   if (s == 0) return ModelIssue::none;
   std::vector<int> hol;
@@ -114,9 +117,10 @@ ModelIssue project_state_rank_revealing(const Model& model, const std::vector<in
       scaled[r] = std::abs(phi[r]) / (nr > 0.0 ? nr : 1.0);
     }
     const double left = scaled.maxCoeff(&worst);
-    // Converged, or stalled on a residual that is rounding (1e-9 of the coordinates' size):
+    // Converged, or stalled on a residual of 1e-7 of the coordinates' size at most (drift left
+    // in a truncated direction; a contradiction is of the size of the geometry):
     // a consistent dependent set at a singular position converges only linearly.
-    if (!converged && !(left <= 1e-9 * (1.0 + q.lpNorm<Eigen::Infinity>()))) {
+    if (!converged && !(left <= 1e-7 * (1.0 + q.lpNorm<Eigen::Infinity>()))) {
       message = "no position satisfies the active constraints near t = " + std::to_string(t) +
                 ": constraint '" + model.constraints()[hol[worst]].name +
                 "' stays violated by " + std::to_string(phi[worst]) +

@@ -30,7 +30,7 @@ ModelIssue project_state(const Model& model, const std::vector<int>& active, dou
 /// project_state takes the rank-revealing path (Huang's steps there follow the nearly
 /// dependent rows and can throw the velocity off the motion: A02 with N = 4 lost its whole
 /// kinetic energy in one projection at a singular position before this test).
-inline constexpr double kNearSingular = 1e-6;
+inline constexpr double kNearSingular = 1e-4;
 bool near_singular(const Model& model, const std::vector<int>& active, double t,
                    const Eigen::VectorXd& q, const Eigen::VectorXd& qd, ProjectionWork& work);
 
@@ -40,7 +40,7 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
                                double& dq, double& dv, std::string& message, ProjectionWork& work);
 
 /// The rank-revealing projection (issue 21): Gauss–Newton with minimum-norm steps through the
-/// truncated SVD of the row-scaled g (truncation 1e-10 σ_max), so dependent rows (everywhere,
+/// truncated SVD of the row-scaled g (truncation 1e-5 σ_max), so dependent rows (everywhere,
 /// or at a singular position) neither stop it nor blow its steps up; contradictory rows are
 /// named (the row left most violated).
 ModelIssue project_state_rank_revealing(const Model& model, const std::vector<int>& active,
