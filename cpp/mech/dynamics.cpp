@@ -325,7 +325,7 @@ bool Dynamics::structured_kernel() {
   // span of the earlier rows, U_jj²/S_jj = sin² of that angle (independent of the row's scale).
   PCSIM_UNROLL
   for (int i = 0; i < s && !singular_s_; ++i)
-    singular_s_ = !(1.0 < kSwitch * sd[i] * inv_s_[i] * inv_s_[i]) ? true : false;
+    singular_s_ = 1.0 < kSwitch * sd[i] * inv_s_[i] * inv_s_[i];  // U_jj² < kSwitch S_jj
   if (singular_s_) return true;
   double* lam = lambda.data();
   PCSIM_UNROLL

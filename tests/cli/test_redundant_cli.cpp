@@ -141,14 +141,15 @@ Errors run_and_compare(const std::string& case_name, int cranks, int couplers, c
 // A02, N = 1: 3 rods, the bars on the x axis twice a revolution (rank 8 -> 7). 10 s is about
 // three revolutions: six singular positions crossed. Bounds: the angle to 100 rtol (at least
 // 1e-6 rad: the crossing of a singular position costs up to ~1e-7 rad at the tightest
-// tolerances), the cranks equal to 1e-6 rad, the energy (about 20 J) to 500 rtol J.
+// tolerances), the cranks equal to 1e-6 rad, the energy (about 20 J) to max(500 rtol, 1e-6) J
+// (the filtered crossing of a singular position costs up to ~2e-7 J at tight tolerances).
 BOOST_AUTO_TEST_CASE(a02_n1_crosses_singular_positions_and_follows_the_one_dof_model) {
   for (const std::string rtol : {"1e-6", "1e-8", "1e-10"}) {
     const double rt = std::stod(rtol);
     const Errors e = run_and_compare("fourbar_a02_N1", 2, 1, rtol);
     BOOST_TEST(e.angle <= std::max(100 * rt, 1e-6), rtol << ": " << e.angle);
     BOOST_TEST(e.spread <= 1e-6, rtol << ": " << e.spread);
-    BOOST_TEST(e.energy <= 500 * rt, rtol << ": " << e.energy);
+    BOOST_TEST(e.energy <= std::max(500 * rt, 1e-6), rtol << ": " << e.energy);
     BOOST_TEST(e.theta_end < -3 * 2 * M_PI + M_PI / 2);  // at least three revolutions made
   }
 }
@@ -171,7 +172,7 @@ BOOST_AUTO_TEST_CASE(parallelogram_with_a_redundant_third_crank_runs_and_moves_a
     const Errors e = run_and_compare("parallelogram_third_crank", 3, 1, rtol);
     BOOST_TEST(e.angle <= std::max(100 * rt, 1e-6), rtol << ": " << e.angle);
     BOOST_TEST(e.spread <= 1e-6, rtol << ": " << e.spread);
-    BOOST_TEST(e.energy <= 500 * rt, rtol << ": " << e.energy);
+    BOOST_TEST(e.energy <= std::max(500 * rt, 1e-6), rtol << ": " << e.energy);
   }
 }
 
@@ -186,4 +187,29 @@ BOOST_AUTO_TEST_CASE(contradictory_constraints_are_refused_naming_the_rows) {
   BOOST_TEST(r.output.find("'pin_shifted'") != std::string::npos, r.output);
   BOOST_TEST(r.output.find("'A0_x'") != std::string::npos, r.output);
   BOOST_TEST(!fs::exists(dir / "out" / "timeseries.csv"));
+}
+
+// `pcsim check CASE`: a report without running. The parallelogram with a third crank: rank 11
+// of 12, one degree of freedom against a Grübler count of 0, the redundant row named, exit 0.
+// A contradictory pin: exit 2 naming both rows. Nothing is written in either case.
+BOOST_AUTO_TEST_CASE(check_reports_rank_dof_and_redundant_rows_and_refuses_contradictions) {
+  const auto dir = scratch("check");
+  const std::string third = std::string(PCSIM_SOURCE_DIR) + "/cases/parallelogram_third_crank.toml";
+  const auto r = run_pcsim("check '" + third + "'", dir);
+  BOOST_TEST(r.status == 0, r.output);
+  for (const char* s : {"coordinates: 12; active constraints: 12",
+                        "rank of the active constraints at the initial state: 11 of 12",
+                        "degrees of freedom: 1 (n - rank); Gruebler-style count n - m = 0",
+                        "redundant rows: 'M_coupler_y'", "mass matrix M: positive definite",
+                        "the case can run"})
+    BOOST_TEST(r.output.find(s) != std::string::npos, s << "\n" << r.output);
+  const std::string a02 = std::string(PCSIM_SOURCE_DIR) + "/cases/fourbar_a02_N1.toml";
+  const auto ok = run_pcsim("check '" + a02 + "'", dir);
+  BOOST_TEST(ok.status == 0, ok.output);
+  BOOST_TEST(ok.output.find("rank of the active constraints at the initial state: 8 of 8") != std::string::npos, ok.output);
+  BOOST_TEST(ok.output.find("redundant rows: none") != std::string::npos, ok.output);
+  const auto bad = run_pcsim("check '" + a02 + "' --constraint 'pin_shifted=xc0 - h*cos(tc0) - 0.1'", dir);
+  BOOST_TEST(bad.status == 2, bad.output);
+  BOOST_TEST(bad.output.find("'pin_shifted' contradicts 'A0_x'") != std::string::npos, bad.output);
+  BOOST_TEST(bad.output.find("cannot run") != std::string::npos, bad.output);
 }
