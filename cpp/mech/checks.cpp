@@ -116,12 +116,8 @@ CheckResult check_model(const Model& model, const std::vector<std::string>& name
     return out;
   }
   if (s == 0) return out;
-  if (s > n) {
-    out.issue = ModelIssue::dependent_constraints;
-    out.message = std::to_string(s) + " active constraints on " + std::to_string(n) +
-                  " coordinates are necessarily dependent";
-    return out;
-  }
+  // s > n is not refused by itself (issue 21): such rows are dependent, and the rank test
+  // below tells redundant from contradictory.
   // Rank and row flags of g from the Huang kernel; consistency of g q̇ = −g0.
   HuangOptions ho;
   ho.kernel = kernel;
@@ -170,18 +166,23 @@ CheckResult check_model(const Model& model, const std::vector<std::string>& name
                     ": no motion satisfies all of them";
       return out;
     }
-    std::string msg;
+    // Consistent but dependent (issue 21): the run goes on; R is unique, the split by
+    // constraint is the minimum-norm one (statically indeterminate). Say which rows.
+    out.rank = hr.rank;
     for (int r = 0; r < s; ++r) {
       if (!dep[r]) continue;
+      out.redundant.push_back(r);
       const std::string with = combination_of(model, out.active, dyn.g, dep, r);
-      if (!msg.empty()) msg += "; ";
-      msg += "constraint '" + model.constraints()[out.active[r]].name + "' is redundant (its row" +
-             " of g is a linear combination of " + (with.empty() ? "earlier rows" : with) + ")";
+      if (!out.message.empty()) out.message += "; ";
+      out.message += "constraint '" + model.constraints()[out.active[r]].name +
+                     "' is redundant (its row of g is a linear combination of " +
+                     (with.empty() ? std::string("earlier rows") : with) + ")";
     }
-    out.issue = ModelIssue::dependent_constraints;
-    out.message = "dependent constraints (rank " + std::to_string(hr.rank) + " < " +
-                  std::to_string(s) + "): " + msg + "; deactivate one of them";
-    return out;
+    out.message = "dependent but consistent constraints (rank " + std::to_string(hr.rank) + " < " +
+                  std::to_string(s) + "): " + out.message +
+                  "; R is unique, its split by constraint is statically indeterminate";
+  } else {
+    out.rank = s;
   }
   // constant_row promises: compare g at a perturbed state (fixed, deterministic perturbation).
   Eigen::VectorXd q2 = q, qd2 = qd;

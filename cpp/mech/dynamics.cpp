@@ -85,6 +85,7 @@ void Dynamics::resize_for(int s) {
   MinvgT_.resize(n_, s_);
   S_.resize(s_, s_);
   inv_s_.resize(s_);
+  sdiag_.resize(s_);
   lambda.resize(s_);
 }
 
@@ -315,7 +316,16 @@ bool Dynamics::structured_kernel() {
       S[j + i * s] = sij;  // the upper triangle (j <= i), as cholesky_upper reads
     }
   }
+  double* sd = sdiag_.data();
+  PCSIM_UNROLL
+  for (int i = 0; i < s; ++i) sd[i] = S[i + i * s];
   singular_s_ = !detail::cholesky_upper<(NS > 0 ? NS : 0)>(S, s, s, 1e-13, inv_s_.data());
+  // Hand over to the rank-revealing solve where a row is nearly a combination of the rows
+  // before it: its pivot U_jj² is the squared distance of row j (in the M⁻¹ metric) from the
+  // span of the earlier rows, U_jj²/S_jj = sin² of that angle (independent of the row's scale).
+  PCSIM_UNROLL
+  for (int i = 0; i < s && !singular_s_; ++i)
+    singular_s_ = 1.0 < kSwitch * sd[i] * inv_s_[i] * inv_s_[i];  // U_jj² < kSwitch S_jj
   if (singular_s_) return true;
   double* lam = lambda.data();
   PCSIM_UNROLL
@@ -366,9 +376,9 @@ ModelIssue Dynamics::solve_compatibility_structured() {
     factorize_mass();  // the same criterion; it writes the message naming the coordinates
     return fail(ModelIssue::singular_mass_matrix, message_);
   }
-  if (singular_s_) {
-    return fail(ModelIssue::dependent_constraints, dependency_message() + " (g M^-1 g^T is singular)");
-  }
+  if (singular_s_) return solve_rank_revealing();  // dependent or nearly dependent rows
+  rank = s_;
+  rank_revealing = false;
   if (s_ == 0) {
     R.setZero();
     qdd = a0_;
@@ -426,19 +436,104 @@ ModelIssue Dynamics::solve_udwadia_kalaba() {
   return ModelIssue::none;
 }
 
+ModelIssue Dynamics::solve_rank_revealing() {
+  if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
+  a0_ = llt_.solve(f);
+  rank_revealing = true;
+  if (s_ == 0) {
+    rank = 0;
+    R.setZero();
+    qdd = a0_;
+    return ModelIssue::none;
+  }
+  G0.noalias() = g * a0_;
+  G0 += gamma;
+  // Row scaling: a constraint's units (or a factor 2 on its row) do not change the tolerances.
+  Eigen::VectorXd scale(s_);
+  const double gmax = g.cwiseAbs().maxCoeff();
+  for (int r = 0; r < s_; ++r) {
+    const double nr = g.row(r).norm();
+    scale[r] = nr > 1e-300 && nr > 1e-14 * gmax ? 1.0 / nr : 0.0;  // a vanishing row: no force
+  }
+  const Eigen::MatrixXd gsT = (scale.asDiagonal() * g).transpose();  // n x s
+  const auto L = llt_.matrixL();
+  const Eigen::MatrixXd Bt = L.solve(gsT);  // L⁻¹ g_sᵀ = Bᵀ (n x s)
+  const Eigen::VectorXd b = -(scale.asDiagonal() * G0);
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(Bt, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  const double smax = sv.size() > 0 ? sv[0] : 0.0;
+  const double mu = kFilter * smax;
+  rank = 0;
+  const Eigen::VectorXd c = svd.matrixV().transpose() * b;  // v_iᵀ b
+  Eigen::VectorXd ycoef(sv.size()), lcoef(sv.size());
+  for (int i = 0; i < sv.size(); ++i) {
+    const double si = sv[i];
+    if (si > kRankTol * smax) ++rank;
+    // φ = σ⁴/(σ⁴ + μ⁴): 1 − (μ/σ)⁴ above μ, a smooth cut below it.
+    const double s2 = si * si, den = s2 * s2 + mu * mu * mu * mu;
+    ycoef[i] = den > 0.0 ? s2 * si * c[i] / den : 0.0;  // φ_i c_i / σ_i
+    // λ along a dependent direction (σ at rounding level) is the indeterminate part: the
+    // minimum-norm split leaves it out.
+    lcoef[i] = den > 0.0 && si > kRankTol * smax ? s2 * c[i] / den : 0.0;  // φ_i c_i / σ_i²
+  }
+  const Eigen::VectorXd y = svd.matrixU() * ycoef;
+  lambda = scale.asDiagonal() * (svd.matrixV() * lcoef);
+  R = L * y;
+  qdd = a0_ + L.transpose().solve(y);
+  if (!R.allFinite() || !qdd.allFinite()) {
+    return fail(ModelIssue::non_finite, "the rank-revealing reaction solve gave non-finite values at t = " + fmt(t_));
+  }
+  return ModelIssue::none;
+}
+
+std::vector<int> Dynamics::dependent_row_indices(int numerical_rank) const {
+  // Which rows to call dependent: column-pivoted QR of the row-scaled gᵀ picks a well-conditioned
+  // set of `numerical_rank` rows first; the rows it leaves are the dependent ones (deterministic).
+  std::vector<int> out;
+  if (s_ == 0 || numerical_rank >= s_) return out;
+  Eigen::MatrixXd gsT = g.transpose();
+  for (int r = 0; r < s_; ++r) {
+    const double nr = gsT.col(r).norm();
+    if (nr > 0.0) gsT.col(r) /= nr;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(gsT);
+  const auto& perm = qr.colsPermutation().indices();
+  for (int k = std::max(numerical_rank, 0); k < s_; ++k) out.push_back(perm[k]);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+double Dynamics::smallest_singular_value() const {
+  if (s_ == 0) return INFINITY;
+  Eigen::MatrixXd gs = g;
+  for (int r = 0; r < s_; ++r) {
+    const double nr = gs.row(r).norm();
+    if (nr > 0.0) gs.row(r) /= nr;
+  }
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(gs);
+  const Eigen::VectorXd sv = svd.singularValues();
+  return s_ > sv.size() ? 0.0 : sv[sv.size() - 1];
+}
+
 void Dynamics::lambda_from_R() {
   if (s_ == 0) return;
   // g gᵀ λ = g R: exact for the reactions of independent ideal constraints (R in range(gᵀ)).
+  if (rank_revealing) return;  // λ is the minimum-norm split already
   lambda = (g * g.transpose()).ldlt().solve(g * R);
 }
 
 ModelIssue Dynamics::solve(ReactionMethod method) {
   ModelIssue e = ModelIssue::none;
+  rank = s_;
+  rank_revealing = false;
   switch (method) {
     case ReactionMethod::compatibility_structured:
       return solve_compatibility_structured();  // λ first, then R
     case ReactionMethod::compatibility:
       e = solve_compatibility();
+      // The paper's [G; Dᵀ] needs D of dimension n − s; with dependent rows (Huang's rank < s)
+      // the same R comes from the rank-revealing solve.
+      if (e == ModelIssue::dependent_constraints) return solve_rank_revealing();
       break;
     case ReactionMethod::kkt:
       e = solve_kkt();

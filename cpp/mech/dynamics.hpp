@@ -100,6 +100,49 @@ class Dynamics {
   Eigen::MatrixXd M, g, D, G, A;
   Eigen::VectorXd h, Q, f, g0, gamma, G0, R, qdd, lambda;
 
+  /// The numerical rank of the active rows used by the last solve() (s when the full-rank
+  /// structured or dense solve applied; from the rank-revealing solve otherwise) and whether the
+  /// rank-revealing solve was taken (issue 21). When rank < s the multipliers λ are the
+  /// minimum-norm split of R (statically indeterminate: null space of dimension s − rank), R and
+  /// q̈ are unique.
+  int rank = 0;
+  bool rank_revealing = false;
+
+  /// The rank-revealing reaction solve (issue 21), for any rank of g: with M = L Lᵀ, the
+  /// row-scaled B = S_r g L⁻ᵀ (S_r = diag(1/|g_r|)) and b = −S_r G0, its SVD B = Σ σ_i v_i u_iᵀ
+  /// gives y = Σ u_i φ_i (v_iᵀ b)/σ_i with the filter φ_i = σ_i⁴/(σ_i⁴ + μ⁴),
+  /// μ = kFilter σ_max, and R = L y, q̈ = M⁻¹ f + L⁻ᵀ y, λ = S_r Σ v_i φ_i (v_iᵀ b)/σ_i².
+  /// Proof of uniqueness (README text, /notes): q̈ − M⁻¹f = M⁻¹ gᵀ λ and g q̈ = −γ give
+  /// (g M⁻¹ gᵀ) λ = −G0; if λ and λ' both solve it, δ = λ − λ' has δᵀ g M⁻¹ gᵀ δ = |L⁻¹ gᵀ δ|² = 0,
+  /// so gᵀ δ = 0 and R = gᵀ λ = gᵀ λ'. rank counts σ_i > kRankTol σ_max.
+  ModelIssue solve_rank_revealing();
+  /// Relative filter μ/σ_max = 1e-6, filter φ = σ⁴/(σ⁴ + μ⁴). Across a singular position (σ → 0
+  /// linearly in time, as in A02) the exact component of R along the vanishing direction is
+  /// (u·b)/σ, a 0/0 that rounding and drift turn into spikes; filtered it is (u·b) σ³/(σ⁴ + μ⁴):
+  /// bounded by about |u·b|/μ and a smooth function of the state, which the step-size control
+  /// resolves with steps of about μ/|σ̇| instead of collapsing (a filter of 1e-10 gave steps of
+  /// 1e-14 s at rtol 1e-10 in A02, N = 4, and 1e-7 a crank angle off by 4e-4 rad). Its price:
+  /// a direction with σ < σ_max/100 (only there is the filter used) is enforced to (μ/σ)⁴
+  /// relative, 1e-16 at the hand-over.
+  static constexpr double kFilter = 1e-6;
+  /// Relative singular value below which a row counts as dependent (reported rank): about
+  /// sqrt(eps); rows that are exactly dependent give σ ≈ eps σ_max, far below.
+  static constexpr double kRankTol = 1.5e-8;
+  /// The structured (Cholesky) solve hands over to the rank-revealing one where a row is
+  /// within an angle of 1e-2 of the span of the rows before it (in the M⁻¹ metric: its pivot
+  /// U_jj² < kSwitch S_jj, independent of the row's scale), or where the old test (smallest
+  /// pivot < 1e-13 of the largest) fires. There σ ≳ 1e-2 σ_max, so the filter changes R by at
+  /// most (μ/σ)⁴ = 1e-16 relative along that direction: q̈ is continuous to that, and the
+  /// formulations agree to 1e-10 (test_reactions) on either side.
+  static constexpr double kSwitch = 1e-4;
+  /// After evaluate(): the rows (indices into the active set) that a column-pivoted QR of the
+  /// row-scaled gᵀ leaves outside its first `numerical_rank` pivots: the dependent rows named in
+  /// messages and rank reports.
+  std::vector<int> dependent_row_indices(int numerical_rank) const;
+  /// After evaluate(): the smallest singular value of g with its rows scaled to unit length (0
+  /// when s > n): how close the state is to a singular position.
+  double smallest_singular_value() const;
+
  private:
   ModelIssue fail(ModelIssue issue, std::string message);
   ModelIssue factorize_mass();
@@ -132,6 +175,7 @@ class Dynamics {
   Eigen::MatrixXd S_;       // g M⁻¹ gᵀ (s x s), then its Cholesky factor
   Eigen::MatrixXd L_;       // the Cholesky factor of M (structured solve)
   Eigen::VectorXd inv_, inv_s_;  // 1 / diagonal of the factors of M and of S
+  Eigen::VectorXd sdiag_;        // the diagonal of S before its factorization
   void lambda_from_R();     // λ from R = gᵀ λ (the dense methods)
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::MatrixXd MinvgT_;  // M⁻¹ gᵀ (n x s)

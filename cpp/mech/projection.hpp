@@ -25,6 +25,29 @@ ModelIssue project_state(const Model& model, const std::vector<int>& active, dou
                          Eigen::VectorXd& q, Eigen::VectorXd& qd, Kernel kernel, double tol,
                          double& dq, double& dv, std::string& message, ProjectionWork& work);
 
+/// Whether the row-scaled g of the active rows at (t, q) has σ_min <= kNearSingular σ_max (or
+/// more rows than coordinates): dependent rows, or a state near a singular position, where
+/// project_state takes the rank-revealing path (Huang's steps there follow the nearly
+/// dependent rows and can throw the velocity off the motion: A02 with N = 4 lost its whole
+/// kinetic energy in one projection at a singular position before this test).
+inline constexpr double kNearSingular = 1e-4;
+bool near_singular(const Model& model, const std::vector<int>& active, double t,
+                   const Eigen::VectorXd& q, const Eigen::VectorXd& qd, ProjectionWork& work);
+
+/// The Huang path of project_state (before issue 21 the only one).
+ModelIssue project_state_huang(const Model& model, const std::vector<int>& active, double t,
+                               Eigen::VectorXd& q, Eigen::VectorXd& qd, Kernel kernel, double tol,
+                               double& dq, double& dv, std::string& message, ProjectionWork& work);
+
+/// The rank-revealing projection (issue 21): Gauss–Newton with minimum-norm steps through the
+/// truncated SVD of the row-scaled g (truncation 1e-5 σ_max), so dependent rows (everywhere,
+/// or at a singular position) neither stop it nor blow its steps up; contradictory rows are
+/// named (the row left most violated).
+ModelIssue project_state_rank_revealing(const Model& model, const std::vector<int>& active,
+                                        double t, Eigen::VectorXd& q, Eigen::VectorXd& qd,
+                                        double tol, double& dq, double& dv, std::string& message,
+                                        ProjectionWork& work);
+
 /// Whether one imposed constraint row holds at (t, q, qd) to the projection's tolerance already,
 /// so that projecting would change the state by rounding only (the drift allowed between
 /// projections). The tolerance is relative to the row's OWN terms, never to the size of the

@@ -126,6 +126,11 @@ struct CheckResult {
   ModelIssue issue = ModelIssue::none;
   std::string message;  ///< names the constraints / coordinates involved
   std::vector<int> active;  ///< the resolved indices into model.constraints()
+  /// Issue 21: the rank of the active rows at the state (Huang), and the rows (indices into
+  /// `active`) that depend on earlier ones. Dependent rows whose right-hand sides agree are
+  /// accepted (issue stays none, message says which); contradictory ones are refused.
+  int rank = 0;
+  std::vector<int> redundant;
 };
 CheckResult check_model(const Model& model, const std::vector<std::string>& active, double t,
                         const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
