@@ -98,6 +98,30 @@ def model(N, third):
     w('energy = "' + " + ".join(f"0.5*m*({x}_d^2 + {y}_d^2) + 0.5*J*{t}_d^2 + m*g*{y}" for x, y, t in bodies) + '"   # J')
     w('tip_B0_x = "xc0 + h*cos(tc0)"   # m')
     w('tip_B0_y = "yc0 + h*sin(tc0)"   # m')
+    w("")
+    # The drawing (pcsim animate): the ground, the pivots, every rod from end to end.
+    w("[model.draw]")
+    w('view = "2d"')
+    w("")
+    w("[[model.draw.line]]")
+    w(f'points = [{{ x = "-0.25*L", y = "0" }}, {{ x = "{N}.25*L", y = "0" }}]')
+    w('color = "#888888"')
+    for k in cr:
+        w("")
+        w("[[model.draw.point]]")
+        w(f'name = "A{k}"')
+        w(f'x = "{k}*L"')
+        w('y = "0"')
+        w("[[model.draw.point]]")
+        w(f'name = "B{k}"')
+        w(f'x = "xc{k} + h*cos(tc{k})"')
+        w(f'y = "yc{k} + h*sin(tc{k})"')
+    for x, y, t in bodies:
+        w("")
+        w("[[model.draw.line]]")
+        w(f'points = [{{ x = "{x} - h*cos({t})", y = "{y} - h*sin({t})" }}, '
+          f'{{ x = "{x} + h*cos({t})", y = "{y} + h*sin({t})" }}]')
+        w('color = "#1f4e79"' if x.startswith("xc") or x == "xm" else 'color = "#2a6f97"')
     return "\n".join(out) + "\n"
 
 
