@@ -123,9 +123,12 @@ def test_evaluate_refuses_bad_states(pendulum):
         m.evaluate([1.0, 0.0], t="now")
     with pytest.raises(ValueError, match="t: expected a finite number"):
         m.evaluate([1.0, 0.0], t=math.nan)
-    # the pivot itself: g = 0, no reaction can be solved; an exception, not a crash
-    with pytest.raises(pcsim.NumericalError):
-        m.evaluate([0.0, 0.0])
+    # the pivot itself, at rest: the rod's row of g vanishes and its acceleration-level equation
+    # 0 = -gamma = 0 holds, so the rank-revealing reaction solve (issue 21) gives the unique
+    # answer: no reaction, free fall
+    e = m.evaluate([0.0, 0.0])
+    assert np.array_equal(e["R"], [0.0, 0.0])
+    assert e["qdd"][0] == 0.0 and e["qdd"][1] == pytest.approx(-9.81, rel=1e-15)
 
 
 def test_numerical_error_mid_run_keeps_what_was_computed(tmp_path, pcsim_exe):
