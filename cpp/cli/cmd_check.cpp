@@ -8,20 +8,15 @@
 // `pcsim run` does; writes nothing.
 #include <CLI/CLI.hpp>
 
-#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
-
 #include "cli/commands.hpp"
 #include "common/error.hpp"
-#include "common/format.hpp"
-#include "mech/dynamics.hpp"
-#include "mech/simulation.hpp"
 #include "sim/case.hpp"
+#include "sim/check.hpp"
 
 namespace {
 
@@ -31,75 +26,15 @@ struct CheckArgs {
   std::vector<std::string> added;
 };
 
-std::string num(double v) { return pcsim::format_significant(v, 4); }
-
+// The check itself is the case layer's (sim/check.hpp): this prints its text and turns a case
+// that cannot run into the exit-2 error.
 void check(const CheckArgs& a) {
   using namespace pcsim;
   const std::vector<sim::Override> overrides = sim::command_line_overrides(a.sets, a.added);
   const sim::Case c = sim::load_case(a.case_file, overrides);
-  const sim::Setup& set = c.setup;
-  const auto model = c.model->instantiate(set.parameters, set.q0, 0.0, c.table, "");
-  const int n = model->n();
-  const int m = static_cast<int>(set.active.size());
-  std::printf("pcsim check: case '%s', model '%s'\n", c.name.c_str(), model->name().c_str());
-  std::printf("  coordinates: %d; active constraints: %d\n", n, m);
-
-  // M at the initial state (positive definite: its smallest eigenvalue > 0).
-  mech::Dynamics free(*model, set.kernel);
-  const mech::ActiveSet none;
-  free.evaluate(none, 0.0, set.q0, set.qd0);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(free.M, Eigen::EigenvaluesOnly);
-  const double emin = es.eigenvalues()[0], emax = es.eigenvalues()[n - 1];
-  const bool spd = es.info() == Eigen::Success && emin > 1e-13 * emax;
-  std::printf("  mass matrix M: %s (eigenvalues %s ... %s)\n",
-              spd ? "positive definite" : "NOT positive definite", num(emin).c_str(),
-              num(emax).c_str());
-
-  const mech::CheckResult chk = mech::check_model(*model, set.active, 0.0, set.q0, set.qd0, set.kernel);
-  if (chk.issue == mech::ModelIssue::none && m > 0) {
-    std::vector<int> idx = chk.active;
-    mech::Dynamics dyn(*model, set.kernel);
-    const mech::ActiveSet as = mech::ActiveSet::of(*model, idx);
-    dyn.evaluate(as, 0.0, set.q0, set.qd0);
-    std::printf("  rank of the active constraints at the initial state: %d of %d\n", chk.rank, m);
-    std::printf("  degrees of freedom: %d (n - rank); Gruebler-style count n - m = %d%s\n",
-                n - chk.rank, n - m,
-                chk.rank < m ? " (redundant constraints: the count is too low)" : "");
-    if (!chk.redundant.empty()) {
-      std::string names;
-      for (int r : chk.redundant)
-        names += (names.empty() ? "'" : ", '") + model->constraints()[idx[r]].name + "'";
-      std::printf("  redundant rows: %s (consistent: R is unique, its split by constraint is\n"
-                  "    statically indeterminate; the minimum-norm split is reported, null space of\n"
-                  "    dimension %d)\n",
-                  names.c_str(), m - chk.rank);
-    } else {
-      std::printf("  redundant rows: none\n");
-    }
-    const double smin = dyn.smallest_singular_value();
-    std::printf("  smallest singular value of g (rows scaled to unit length): %s%s\n", num(smin).c_str(),
-                chk.rank < m ? " (the redundant rows)" : smin < 1e-6 ? " (at or near a singular position)" : "");
-    std::printf("  initial residuals: position %s, velocity %s\n",
-                num(dyn.position_residual(0.0, set.q0)).c_str(),
-                num(dyn.velocity_residual(set.qd0)).c_str());
-  } else if (m == 0) {
-    std::printf("  no active constraints: %d degrees of freedom\n", n);
-  }
-  if (!spd && chk.issue == mech::ModelIssue::none) {
-    throw InputError("case '" + c.name + "' cannot run: the mass matrix is not positive definite at the initial state");
-  }
-  if (chk.issue != mech::ModelIssue::none) {
-    throw InputError("case '" + c.name + "' cannot run: " + chk.message);
-  }
-  const mech::ProjectionResult pr =
-      mech::project_consistent(*model, set.active, 0.0, set.q0, set.qd0, set.kernel);
-  if (pr.issue != mech::ModelIssue::none) {
-    throw InputError("case '" + c.name + "' cannot run: consistent initial values: " + pr.message);
-  }
-  std::printf("  consistent initial values: the correction moves q by %s and q_d by %s (2-norms)\n",
-              num(pr.correction_pos).c_str(), num(pr.correction_vel).c_str());
-  if (!chk.message.empty()) std::printf("  note: %s\n", chk.message.c_str());
-  std::printf("  the case can run\n");
+  const sim::CheckReport r = sim::check_case(c);
+  std::fputs(sim::format_check(r).c_str(), stdout);
+  if (!r.can_run) throw InputError(sim::check_refusal(r));
 }
 
 void setup(CLI::App& app) {

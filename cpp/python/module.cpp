@@ -37,6 +37,7 @@
 #include "mech/contacts/switching.hpp"
 #include "mech/dynamics.hpp"
 #include "sim/case.hpp"
+#include "sim/check.hpp"
 #include "sim/client.hpp"
 #include "sim/result.hpp"
 #include "sim/run.hpp"
@@ -408,6 +409,12 @@ struct PySweep : Table {
   py::list summaries;
 };
 
+/// pcsim check's result (sim::check_case): the typed report and the text the CLI prints.
+struct PyCheck {
+  sim::CheckReport r;
+  std::string report;
+};
+
 double field_number(const std::string& f) {
   if (f == "true") return 1.0;
   if (f == "false") return 0.0;
@@ -727,6 +734,23 @@ class PyCase {
     return r;
   }
 
+  /// pcsim check: the report at the initial state; a case that cannot run raises InputError
+  /// with the message the CLI exits 2 with (its report up to the refusal in .check_report).
+  PyCheck check() const {
+    PyCheck out;
+    without_gil([&] {
+      out.r = sim::check_case(*case_);
+      out.report = sim::format_check(out.r);
+    });
+    if (!out.r.can_run) {
+      const std::string msg = sim::check_refusal(out.r);
+      py::object e = pcsim_attr("InputError")(msg, py::arg("file") = py::none(), py::arg("key") = py::none());
+      e.attr("check_report") = py::str(out.report);
+      raise(e);
+    }
+    return out;
+  }
+
   PySweep sweep(const py::object& vary_, unsigned jobs) const {
     const std::vector<std::string> vary = string_list(vary_, "vary");
     if (vary.empty()) raise_input("vary: expected at least one KEY=START:STOP:COUNT or KEY=v1,v2,...");
@@ -897,6 +921,55 @@ PYBIND11_MODULE(_pcsim, m) {
       .def("__getitem__", &PySweep::column, py::arg("column"), "A column by name (a view).")
       .def("__len__", [](const PySweep& r) { return r.data.shape(0); }, "The number of points.");
 
+  py::class_<PyCheck>(m, "CheckResult",
+                      "pcsim check's result: what the engine finds about a case at its initial "
+                      "state, without running it. Fields not computed are None.")
+      .def_property_readonly("case", [](const PyCheck& c) { return c.r.case_name; }, "The case's name.")
+      .def_property_readonly("model", [](const PyCheck& c) { return c.r.model; }, "The model's name.")
+      .def_property_readonly("coordinates", [](const PyCheck& c) { return c.r.coordinates; },
+                             "The generalized coordinates q (n = len).")
+      .def_property_readonly("active_constraints", [](const PyCheck& c) { return c.r.active; },
+                             "The active constraints (m = len).")
+      .def_property_readonly("mass_positive_definite", [](const PyCheck& c) { return c.r.mass_positive_definite; },
+                             "Whether M is positive definite at the initial state (smallest eigenvalue "
+                             "> 1e-13 x largest).")
+      .def_property_readonly("mass_eigenvalues", [](const PyCheck& c) {
+             return py::make_tuple(c.r.mass_eigenvalue_min, c.r.mass_eigenvalue_max);
+           }, "M's (smallest, largest) eigenvalue at the initial state.")
+      .def_property_readonly("rank", [](const PyCheck& c) { return c.r.rank; },
+                             "The rank of the active constraints at the initial state.")
+      .def_property_readonly("dof", [](const PyCheck& c) { return c.r.dof; },
+                             "The degrees of freedom, n - rank.")
+      .def_property_readonly("gruebler", [](const PyCheck& c) { return c.r.gruebler; },
+                             "The Gruebler-style count n - m (too low with redundant constraints).")
+      .def_property_readonly("redundant", [](const PyCheck& c) { return c.r.redundant; },
+                             "The redundant (dependent, consistent) rows, by constraint name.")
+      .def_property_readonly("null_space_dimension", [](const PyCheck& c) { return c.r.null_space_dimension; },
+                             "m - rank: the dimension of the statically indeterminate part.")
+      .def_property_readonly("smallest_singular_value", [](const PyCheck& c) { return c.r.smallest_singular_value; },
+                             "The smallest singular value of g, rows scaled to unit length (near 0: "
+                             "redundant rows or near a singular position).")
+      .def_property_readonly("position_residual", [](const PyCheck& c) { return c.r.position_residual; },
+                             "The initial position residual of the holonomic constraints.")
+      .def_property_readonly("velocity_residual", [](const PyCheck& c) { return c.r.velocity_residual; },
+                             "The initial velocity residual |g qd + g0|.")
+      .def_property_readonly("correction", [](const PyCheck& c) {
+             return py::make_tuple(c.r.correction_pos, c.r.correction_vel);
+           }, "How far the consistent-initial-value correction moves (q, qd): 2-norms.")
+      .def_property_readonly("note", [](const PyCheck& c) { return c.r.note; },
+                             "The check's remark on accepted dependent rows, or ''.")
+      .def_property_readonly("can_run", [](const PyCheck& c) { return c.r.can_run; },
+                             "True (a case that cannot run raises pcsim.InputError instead).")
+      .def_property_readonly("data", [](const PyCheck& c) { return to_python(sim::to_json(c.r)); },
+                             "The report as dicts and lists (null where not computed).")
+      .def_readonly("report", &PyCheck::report, "The text pcsim check prints, byte for byte.")
+      .def("__repr__", [](const PyCheck& c) {
+        return "<pcsim.CheckResult '" + c.r.case_name + "' rank " +
+               (c.r.rank ? std::to_string(*c.r.rank) : std::string("?")) + " of " +
+               std::to_string(c.r.active.size()) + ", " + std::to_string(c.r.redundant.size()) +
+               " redundant>";
+      });
+
   py::class_<PyCase>(m, "Case",
                      "A validated case: a case file, or a model file run with its defaults.")
       .def(py::init(&PyCase::load), py::arg("path"), py::arg("set") = py::none(),
@@ -942,6 +1015,12 @@ PYBIND11_MODULE(_pcsim, m) {
            py::arg("out") = py::none(),
            "The steady state along one key as pcsim response traces it (vary = "
            "'KEY=START:STOP:COUNT' or 'KEY=v1,v2,...'); a pcsim.ResponseResult. Releases the GIL.")
+      .def("check", &PyCase::check,
+           "What pcsim check finds at the initial state, without running: a pcsim.CheckResult "
+           "(rank, dof, gruebler, redundant rows, smallest singular value, M, residuals, the "
+           "correction; .report is the CLI's text). Releases the GIL. Raises pcsim.InputError "
+           "with the CLI's message where pcsim check exits 2 (the case cannot run; the report up "
+           "to then in the exception's .check_report).")
       .def("sweep", &PyCase::sweep, py::arg("vary"), py::arg("jobs") = 0,
            "Every point of the grid the vary specifications span (a str or a list of "
            "'KEY=START:STOP:COUNT' / 'KEY=v1,v2,...', the last fastest), each computed as pcsim "

@@ -163,7 +163,7 @@ def test_sieve_columns(root):
 # ---- documentation -----------------------------------------------------------------------------
 
 PUBLIC_CLASSES = [pcsim.Case, pcsim.Model, pcsim.RunResult, pcsim.SteadyResult,
-                  pcsim.ResponseResult, pcsim.SweepResult]
+                  pcsim.ResponseResult, pcsim.SweepResult, pcsim.CheckResult]
 
 
 def public_members(cls):

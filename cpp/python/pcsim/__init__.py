@@ -7,6 +7,7 @@ The same case files, keys, results and errors as the ``pcsim`` command line::
     res = case.run()                 # a pcsim.RunResult
     res["R_u"]                       # a column of the time series (NumPy, no copy)
     res.summary["extremes"]["R_u"]   # summary.json's content, as dicts
+    case.check().rank                # pcsim check's findings, without running (.report: its text)
 
 Long calls (run, steady, response, sweep) release the GIL: runs on several threads use several
 cores. Errors are the CLI's one-line messages as Python exceptions: InputError (a ValueError,
@@ -35,12 +36,15 @@ class InputError(Error, ValueError):
     Attributes:
         file: the input file the message names, or None.
         key: the dotted case key the message names, or None.
+        check_report: from Case.check() on a case that cannot run, the text pcsim check
+            printed before its refusal; else None.
     """
 
     def __init__(self, message: str, file: Optional[str] = None, key: Optional[str] = None):
         super().__init__(message)
         self.file = file
         self.key = key
+        self.check_report: Optional[str] = None
 
 
 class NumericalError(Error, ArithmeticError):
@@ -67,6 +71,7 @@ class IoError(Error, OSError):
 
 from ._pcsim import (  # noqa: E402  (the exceptions above must exist first)
     Case,
+    CheckResult,
     Model,
     ModesResult,
     ResponseResult,
@@ -79,6 +84,7 @@ from ._pcsim import (  # noqa: E402  (the exceptions above must exist first)
 
 __all__ = [
     "Case",
+    "CheckResult",
     "Error",
     "InputError",
     "IoError",
