@@ -120,8 +120,9 @@ Errors run_and_compare(const std::string& case_name, int cranks, int couplers, c
 
 }  // namespace
 
-// A02, N = 1: 3 rods, the bars on the x axis twice a revolution (rank 8 -> 7). 10 s is about
-// three revolutions: six singular positions crossed. Bounds: the angle to 100 rtol (at least
+// A02, N = 1: 3 rods, the bars on the x axis twice a revolution (rank 8 -> 7). In 10 s the
+// crank turns from pi/2 to about -30.3 rad: ten singular positions crossed (the rank report
+// lists them, a02_n1_reports_each_singular_position_...). Bounds: the angle to 100 rtol (at least
 // 1e-6 rad: the crossing of a singular position costs up to ~1e-7 rad at the tightest
 // tolerances), the cranks equal to 1e-6 rad, the energy (about 20 J) to max(500 rtol, 1e-6) J
 // (the filtered crossing of a singular position costs up to ~2e-7 J at tight tolerances).
