@@ -119,7 +119,7 @@ class Dynamics {
   /// row-scaled B = S_r g L⁻ᵀ (S_r = diag(1/|g_r|)) and b = −S_r G0, its SVD B = Σ σ_i v_i u_iᵀ
   /// gives y = Σ u_i φ_i (v_iᵀ b)/σ_i with the filter φ_i = σ_i⁴/(σ_i⁴ + μ⁴),
   /// μ = kFilter σ_max, and R = L y, q̈ = M⁻¹ f + L⁻ᵀ y, λ = S_r Σ v_i φ_i (v_iᵀ b)/σ_i².
-  /// Proof of uniqueness (README text, /notes): q̈ − M⁻¹f = M⁻¹ gᵀ λ and g q̈ = −γ give
+  /// Proof of uniqueness (docs/redundant.md): q̈ − M⁻¹f = M⁻¹ gᵀ λ and g q̈ = −γ give
   /// (g M⁻¹ gᵀ) λ = −G0; if λ and λ' both solve it, δ = λ − λ' has δᵀ g M⁻¹ gᵀ δ = |L⁻¹ gᵀ δ|² = 0,
   /// so gᵀ δ = 0 and R = gᵀ λ = gᵀ λ'. rank counts σ_i > kRankTol σ_max.
   ModelIssue solve_rank_revealing();
