@@ -1667,6 +1667,60 @@ void Expander::run() {
 
 void Expander::finish() {
   Impl& I = *impl_;
+  // A default drawing from the bodies' shapes, when the model has no [model.draw].
+  bool any_shape = false;
+  for (const Body& b : I.bodies) any_shape = any_shape || !b.shape.type.empty();
+  if (any_shape && !I.model->get("draw")) {
+    bool planar = true;
+    for (const Body& b : I.bodies)
+      if (!b.ground && !kind(b).planar()) planar = false;
+    toml::table draw;
+    draw.insert("view", planar ? "2d" : "3d");
+    toml::array points, lines, polygons, circles;
+    auto point_table = [&](const Vec3& P) {
+      toml::table t;
+      t.insert("x", P[0]);
+      t.insert("y", P[1]);
+      if (!planar) t.insert("z", P[2]);
+      return t;
+    };
+    for (const Body& b : I.bodies) {
+      if (b.shape.type.empty()) continue;
+      const Shape& sh = b.shape;
+      toml::table style;
+      if (sh.type == "rod") {
+        toml::array pts;
+        pts.push_back(point_table(marker_position(b, *b.marker(sh.from))));
+        pts.push_back(point_table(marker_position(b, *b.marker(sh.to))));
+        toml::table line;
+        line.insert("points", pts);
+        lines.push_back(line);
+      } else if (sh.type == "box") {
+        const Expr w = mul("1/2", sh.width.empty() ? "0" : sh.width), h = mul("1/2", sh.height.empty() ? "0" : sh.height);
+        toml::array pts;
+        for (const auto& [sx, sy] : std::vector<std::pair<int, int>>{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+          Vec3 c;
+          c[0] = sx < 0 ? neg(w) : w;
+          c[1] = sy < 0 ? neg(h) : h;
+          pts.push_back(point_table(add(b.pose.r, bodies::apply(b.pose.A, c))));
+        }
+        toml::table poly;
+        poly.insert("points", pts);
+        if (!sh.fill.empty()) poly.insert("fill", sh.fill);
+        polygons.push_back(poly);
+      } else if (sh.type == "circle") {
+        toml::table circle;
+        circle.insert("centre", point_table(b.pose.r));
+        circle.insert("radius", sh.radius.empty() ? "0" : sh.radius);
+        if (!sh.fill.empty()) circle.insert("fill", sh.fill);
+        circles.push_back(circle);
+      }
+    }
+    if (!lines.empty()) draw.insert("line", lines);
+    if (!polygons.empty()) draw.insert("polygon", polygons);
+    if (!circles.empty()) draw.insert("circle", circles);
+    detail::read_draw_table(draw, src_);
+  }
   if (I.reactions == "none") return;
   for (const Joint& j : I.joints) {
     if (!j.has_reaction) continue;
