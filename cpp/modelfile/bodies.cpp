@@ -324,8 +324,6 @@ void ensure_registered() {
 
 }  // namespace
 
-__attribute__((weak)) void register_spatial_bodies() {}
-
 void register_body_kind(std::shared_ptr<const BodyKind> kind) {
   registry().kinds[kind->name()] = std::move(kind);
 }

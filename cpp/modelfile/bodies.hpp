@@ -241,8 +241,8 @@ class ForceType {
 void register_body_kind(std::shared_ptr<const BodyKind> kind);
 void register_joint_type(std::shared_ptr<const JointType> type);
 void register_force_type(std::shared_ptr<const ForceType> type);
-/// The spatial kinds, joints and forces (BODIES-SPATIAL, bodies_spatial.cpp) register themselves
-/// here; bodies.cpp holds a weak empty default, so the planar build links without them.
+/// The spatial kinds, joints and forces register themselves here (bodies_spatial.cpp); called
+/// once, before the first expansion.
 void register_spatial_bodies();
 /// A joint type for bodies that are not planar under a name a planar type also uses (revolute,
 /// prismatic, fixed, ...): the expander picks it when either body of the joint is not planar.
