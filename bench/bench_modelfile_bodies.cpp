@@ -107,5 +107,14 @@ int main(int argc, char** argv) {
               "sieve_1995_bodies.toml %.4f s, ratio bodies/file %.3f\n", tb, ta, ta / tb);
   std::printf("tape instructions: file %zu, bodies %zu\n", b->compiled().tape.instruction_count(),
               a->compiled().tape.instruction_count());
+  auto blocks = [](const modelfile::CompiledModel& c) {
+    std::string s = "prelude " + std::to_string(c.tape.prelude.size()) + ", kinetic " +
+                    std::to_string(c.tape.blocks[c.kinetic_block].code.size()) + ", forces " +
+                    std::to_string(c.tape.blocks[c.forces_block].code.size()) + ", rows";
+    for (const auto& cb : c.constraint_blocks)
+      s += " " + std::to_string(c.tape.blocks[cb.rows].code.size());
+    return s;
+  };
+  std::printf("  file:   %s\n  bodies: %s\n", blocks(b->compiled()).c_str(), blocks(a->compiled()).c_str());
   return 0;
 }

@@ -364,6 +364,18 @@ Expr BodyKind::kinetic(const Body& b) const {
   auto cross_term = [&](const Expr& e) {
     if (!is_zero(e)) lin.push_back(mul("2", paren(e)));
   };
+  // |ω × r|²: in the plane (ω along z, r in x-y) ω_z² (r_x² + r_y²), the paper's form (and
+  // one whose derivatives the tape orders the same way in every process).
+  auto squares_of_cross = [&](const Vec3& w, const Vec3& r) {
+    if (is_zero(w[0]) && is_zero(w[1]) && is_zero(r[2])) {
+      std::vector<Expr> rr;
+      for (int i = 0; i < 2; ++i)
+        if (!is_zero(r[i])) rr.push_back(paren(r[i]) + "^2");
+      if (!rr.empty() && !is_zero(w[2])) lin.push_back(mul(paren(w[2]) + "^2", paren(sum(rr))));
+    } else {
+      squares(cross(w, r));
+    }
+  };
   if (b.parent.empty()) {
     const Vec3 V = velocity_text(b.pose);
     squares(V);
@@ -372,15 +384,21 @@ Expr BodyKind::kinetic(const Body& b) const {
     const Pose& P = b.parent_pose;
     Vec3 rel_v;
     for (int i = 0; i < 3; ++i) rel_v[i] = b.relative.v[i].text();
-    const Vec3 uo = add(cross(body_angular_velocity_text(P), b.relative.r), rel_v);
+    const Vec3 wP = body_angular_velocity_text(P);
+    const Vec3 uo = add(cross(wP, b.relative.r), rel_v);
     const Vec3 VP = velocity_text(P);
     squares(VP);
-    squares(uo);
-    cross_term(dot(VP, apply(P.A, uo)));
-    cross_term(dot(VP, apply(b.pose.A, wc)));
+    // |u_o|² = |ṙ|² + 2 ṙ·(ω_P × r) + |ω_P × r|² (the sieve's s_d² + u_d² + 2 θ̇ (s u_d − u s_d)
+    // + θ̇² (s² + u²)).
+    squares(rel_v);
+    cross_term(dot(rel_v, cross(wP, b.relative.r)));
+    squares_of_cross(wP, b.relative.r);
+    // 2 V_P·A_P (u_o + A_rel (ω_b × c)) as one term (two terms V_P·A_P u_o + V_P·A (ω_b × c)
+    // meet an ordering tie of the tape compiler: different tapes in different processes).
+    cross_term(dot(VP, apply(P.A, add(uo, apply(b.relative.A, wc)))));
     cross_term(dot(uo, apply(b.relative.A, wc)));
   }
-  squares(wc);
+  squares_of_cross(wb, b.com);
   Expr T = "0";
   if (!lin.empty()) T = mul(mul("1/2", b.mass), paren(sum(lin)));
   std::vector<Expr> rot;
@@ -697,8 +715,13 @@ Pose planar_tree_pose(Expander& x, const Joint& j, const PlanarDof& tx, const Pl
   if (!is_zero(th2)) th_name = x.define(b2.name + "_th", th2, key);
   const Mat3 A2 = Mat3::rot_z(th_name);
   const Vec3 r2v = sub(rm2, apply(A2, m2.p));
-  p.r[0] = x.define(b2.name + "_x", r2v[0], key);
-  p.r[1] = x.define(b2.name + "_y", r2v[1], key);
+  // Defined for outputs and drawings, but the equations use the texts: the tape compiler orders
+  // derivatives of alike position definitions (x + sin(theta)*y0 + ..., x + sin(theta)*s + ...)
+  // differently from process to process (a tie of its structural order).
+  x.define(b2.name + "_x", r2v[0], key);
+  x.define(b2.name + "_y", r2v[1], key);
+  p.r[0] = r2v[0];
+  p.r[1] = r2v[1];
   p.A = A2;
   // velocities: w2 = w1 + phi_d; v_m2 = v1 + w1 × (A1 local) + A1 Rm1 ṫ; v2 = v_m2 - w2 × (A2 p2)
   p.w = b1.pose.w;
