@@ -1,0 +1,230 @@
+#!/usr/bin/env python3
+"""Writes the spatial example models (models/tumbling_body.toml, models/top_heavy.toml,
+models/rolling_coin.toml) in today's energy form, from the Euler-parameter kinematics of a rigid
+body (docs/bodies-spatial.md). Plain Python (no sympy): the expressions are written with named
+definitions, and pcsim derives M, h, Q and the constraint rows from them symbolically.
+
+Per body NAME, coordinates NAME_x, NAME_y, NAME_z (the centre of mass in ground) and NAME_e0..e3
+(Euler parameters e = (e0, e1, e2, e3), |e| = 1 as the constraint NAME_norm). Definitions:
+  NAME_aIJ   the rotation matrix A(e) (body -> ground), the form exact for any e on |e| = 1
+  NAME_wI    the body-frame angular velocity  w' = 2 G(e) e_d
+  NAME_WI    the ground-frame angular velocity w = 2 E(e) e_d
+  NAME_s     e . e_d (zero on the constraint manifold)
+T = 1/2 m |r_d|^2 + 1/2 w'^T J w' + 1/2 k (e . e_d)^2, with k = 4 (J1 + J2 + J3)/3: the last term
+makes M positive definite (4 G^T J G is singular, e spans its kernel) and changes neither q_dd
+nor R on the manifold (proof in docs/bodies-spatial.md, test in
+tests/modelfile/test_modelfile_spatial_bodies.cpp).
+
+Run: python3 scripts/make_spatial_models.py   (writes the three files into models/)
+"""
+import os
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# G(e) (body frame) and E(e) (ground frame): rows are 3 components, columns e0..e3.
+G = [["-{1}", "{0}", "{3}", "-{2}"],
+     ["-{2}", "-{3}", "{0}", "{1}"],
+     ["-{3}", "{2}", "-{1}", "{0}"]]
+E = [["-{1}", "{0}", "-{3}", "{2}"],
+     ["-{2}", "{3}", "{0}", "-{1}"],
+     ["-{3}", "-{2}", "{1}", "{0}"]]
+
+
+def e_names(b):
+    return [f"{b}_e{i}" for i in range(4)]
+
+
+def coordinates(b):
+    return [f"{b}_x", f"{b}_y", f"{b}_z"] + e_names(b)
+
+
+def rotation_defs(b):
+    e0, e1, e2, e3 = e_names(b)
+    return {
+        f"{b}_a11": f"{e0}^2 + {e1}^2 - {e2}^2 - {e3}^2",
+        f"{b}_a12": f"2*({e1}*{e2} - {e0}*{e3})",
+        f"{b}_a13": f"2*({e1}*{e3} + {e0}*{e2})",
+        f"{b}_a21": f"2*({e1}*{e2} + {e0}*{e3})",
+        f"{b}_a22": f"{e0}^2 - {e1}^2 + {e2}^2 - {e3}^2",
+        f"{b}_a23": f"2*({e2}*{e3} - {e0}*{e1})",
+        f"{b}_a31": f"2*({e1}*{e3} - {e0}*{e2})",
+        f"{b}_a32": f"2*({e2}*{e3} + {e0}*{e1})",
+        f"{b}_a33": f"{e0}^2 - {e1}^2 - {e2}^2 + {e3}^2",
+    }
+
+
+def rate_entry(mat, b, row, col):
+    """The entry of 2 G or 2 E (without the 2) as an expression."""
+    return mat[row][col].format(*e_names(b))
+
+
+def rate_defs(b):
+    en = e_names(b)
+    d = {}
+    for name, mat in (("w", G), ("W", E)):
+        for r in range(3):
+            terms = " + ".join(f"({rate_entry(mat, b, r, c)})*{en[c]}_d" for c in range(4))
+            d[f"{b}_{name}{r + 1}"] = f"2*({terms})"
+    d[f"{b}_s"] = " + ".join(f"{x}*{x}_d" for x in en)
+    return d
+
+
+def kinetic(b):
+    return (f"0.5*{b}_m*({b}_x_d^2 + {b}_y_d^2 + {b}_z_d^2)"
+            f" + 0.5*({b}_J1*{b}_w1^2 + {b}_J2*{b}_w2^2 + {b}_J3*{b}_w3^2)"
+            f" + 0.5*{b}_k*{b}_s^2")
+
+
+def norm_constraint(b):
+    return {"name": f"{b}_norm", "holonomic": " + ".join(f"{x}^2" for x in e_names(b)) + " - 1"}
+
+
+def toml_value(v):
+    if isinstance(v, str):
+        return '"' + v + '"'
+    return repr(float(v))
+
+
+def write_model(path, header, name, coords, params, defines, kinetic_expr, potential, constraints,
+                outputs):
+    out = [f"# {line}" if line else "#" for line in header]
+    out.append("# Written by scripts/make_spatial_models.py (Euler-parameter kinematics,")
+    out.append("# docs/bodies-spatial.md). Do not edit: change the script and run it again.")
+    out += ["[model]", f'name = "{name}"',
+            "coordinates = [" + ", ".join(f'"{c}"' for c in coords) + "]", "",
+            "[model.parameters]"]
+    for k, v in params.items():
+        out.append(f"{k} = {toml_value(v)}")
+    out.append(f"{coords[0][:-2]}_kscale = 1.0")
+    out += ["", "[model.define]"]
+    for k, v in defines.items():
+        out.append(f'{k} = "{v}"')
+    out += ["", "[model.energy]", f'kinetic = "{kinetic_expr}"']
+    if potential:
+        out.append(f'potential = "{potential}"')
+    for c in constraints:
+        out += ["", "[[model.constraint]]"]
+        for k, v in c.items():
+            if isinstance(v, dict):
+                out.append(f"{k} = {{ " + ", ".join(f'{kk} = "{vv}"' for kk, vv in v.items()) + " }")
+            else:
+                out.append(f'{k} = "{v}"')
+    out += ["", "[model.outputs]"]
+    for k, v in outputs.items():
+        out.append(f'{k} = "{v}"')
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def body_params(b, m, J):
+    return {f"{b}_m": m, f"{b}_J1": J[0], f"{b}_J2": J[1], f"{b}_J3": J[2]}
+
+
+def k_define(b):
+    # 4 G^T J G has the eigenvalues 4 J_i on the tangent space (G G^T = I there): k = 4 mean(J)
+    # puts the e direction's eigenvalue among them (kscale = 1). Any k > 0 gives the same motion
+    # and reactions; kscale lets a test show it.
+    return {f"{b}_k": f"{b}_kscale*4*({b}_J1 + {b}_J2 + {b}_J3)/3"}
+
+
+def energy_output(b, potential):
+    return (f"0.5*{b}_m*({b}_x_d^2 + {b}_y_d^2 + {b}_z_d^2)"
+            f" + 0.5*({b}_J1*{b}_w1^2 + {b}_J2*{b}_w2^2 + {b}_J3*{b}_w3^2)"
+            + (f" + {potential}" if potential else ""))
+
+
+def tumbling(path):
+    b = "b"
+    defs = {**k_define(b), **rotation_defs(b), **rate_defs(b)}
+    # Angular momentum about the centre of mass in ground: H = A J w'.
+    for r in range(3):
+        defs[f"b_H{r + 1}"] = " + ".join(f"b_a{r + 1}{c + 1}*b_J{c + 1}*b_w{c + 1}" for c in range(3))
+    outputs = {"w1": "b_w1", "w2": "b_w2", "w3": "b_w3",
+               "H1": "b_H1", "H2": "b_H2", "H3": "b_H3",
+               "H": "sqrt(b_H1^2 + b_H2^2 + b_H3^2)",
+               "energy": energy_output(b, "")}
+    write_model(path, [
+        "A free asymmetric rigid body in space (no gravity): Euler's equations with the",
+        "Dzhanibekov flip when it spins near its intermediate axis (J1 < J2 < J3). Outputs: the",
+        "body-frame angular velocity w1..w3, the angular momentum H1..H3 in ground and |H|, the",
+        "energy; all but w are conserved."],
+        "tumbling_body", coordinates(b), body_params(b, 2.0, (0.1, 0.2, 0.3)), defs, kinetic(b),
+        "", [norm_constraint(b)], outputs)
+
+
+def top(path):
+    b = "top"
+    defs = {**k_define(b), **rotation_defs(b), **rate_defs(b)}
+    params = {**body_params(b, 1.0, (0.005, 0.005, 0.008)), "l": 0.1, "g": 9.81,
+              "X0": 0.0, "Y0": 0.0, "Z0": 0.0}
+    # Spherical joint at the tip: the tip is the body point -l along the body z axis from the
+    # centre of mass; it stays at (X0, Y0, Z0). Rows in ground axes (x, y, z).
+    cons = [norm_constraint(b)]
+    for axis, r, p in (("x", 1, "X0"), ("y", 2, "Y0"), ("z", 3, "Z0")):
+        cons.append({"name": f"tip_{axis}", "holonomic": f"{b}_{axis} - l*{b}_a{r}3 - {p}"})
+    # The axis k = A (0, 0, 1) moves with k_d = W x k; its azimuth rate is the precession.
+    defs["top_kxd"] = "top_W2*top_a33 - top_W3*top_a23"
+    defs["top_kyd"] = "top_W3*top_a13 - top_W1*top_a33"
+    pot = f"{b}_m*g*{b}_z"
+    outputs = {"kx": "top_a13", "ky": "top_a23", "kz": "top_a33",
+               "spin": "top_w3",
+               "precession": "(top_a13*top_kyd - top_a23*top_kxd)/(top_a13^2 + top_a23^2)",
+               "energy": energy_output(b, pot)}
+    write_model(path, [
+        "The heavy symmetric top: a body (J1 = J2 transverse, J3 axial, about its centre of",
+        "mass) whose tip, a distance l below the centre of mass along the symmetry axis (body z),",
+        "is held at (X0, Y0, Z0) by a spherical joint (rows tip_x, tip_y, tip_z in ground axes).",
+        "Outputs: the symmetry axis k = (kx, ky, kz) in ground, the spin (body-z angular",
+        "velocity), the precession rate (the azimuth rate of k) and the energy."],
+        "top_heavy", coordinates(b), params, defs, kinetic(b), pot, cons, outputs)
+
+
+def coin(path):
+    b = "coin"
+    defs = {"coin_J1": "coin_m*r^2/4", "coin_J2": "coin_m*r^2/4", "coin_J3": "coin_m*r^2/2",
+            **k_define(b), **rotation_defs(b), **rate_defs(b)}
+    params = {"coin_m": 0.1, "r": 0.05, "g": 9.81}
+    # The disk's axis n = A (0, 0, 1) = (a13, a23, a33); s = |horizontal part of n| =
+    # sqrt(1 - n_z^2) on |e| = 1. The contact point from the centre: rho = r (a33 a13/s,
+    # a33 a23/s, -s) (the lowest point of the rim).
+    defs["coin_sn"] = "sqrt(coin_a13^2 + coin_a23^2)"
+    defs["coin_rx"] = "r*coin_a33*coin_a13/coin_sn"
+    defs["coin_ry"] = "r*coin_a33*coin_a23/coin_sn"
+    defs["coin_rz"] = "-r*coin_sn"
+    en = e_names(b)
+    # v_P = v_C + w x rho with w = 2 E e_d: the coefficient of e_i_d in (w x rho)_x is
+    # 2 (E_2i rho_z - E_3i rho_y), in (w x rho)_y 2 (E_3i rho_x - E_1i rho_z).
+    vx = {f"{b}_x": "1"}
+    vy = {f"{b}_y": "1"}
+    for i in range(4):
+        Ey, Ez, Ex = (rate_entry(E, b, 1, i), rate_entry(E, b, 2, i), rate_entry(E, b, 0, i))
+        vx[f"{en[i]}"] = f"2*(({Ey})*coin_rz - ({Ez})*coin_ry)"
+        vy[f"{en[i]}"] = f"2*(({Ez})*coin_rx - ({Ex})*coin_rz)"
+    cons = [norm_constraint(b),
+            {"name": "contact", "holonomic": "coin_z - r*coin_sn"},
+            {"name": "roll_x", "velocity": vx},
+            {"name": "roll_y", "velocity": vy}]
+    pot = f"{b}_m*g*{b}_z"
+    outputs = {"tilt": "asin(coin_a33)",
+               "px": "coin_x + coin_rx", "py": "coin_y + coin_ry",
+               "energy": energy_output(b, pot)}
+    write_model(path, [
+        "A coin (thin disk, radius r, axis = body z) rolling without slip on the plane z = 0:",
+        "the contact (holonomic: the centre is r*sqrt(1 - n_z^2) above the plane) and the",
+        "no-slip rows roll_x, roll_y (velocity form: the rim point touching the plane has zero",
+        "horizontal velocity). Outputs: tilt = the angle of the disk plane from vertical,",
+        "the contact point (px, py), the energy (conserved: rolling does no work)."],
+        "rolling_coin", coordinates(b), params, defs, kinetic(b), pot, cons, outputs)
+
+
+def main():
+    models = os.path.join(ROOT, "models")
+    tumbling(os.path.join(models, "tumbling_body.toml"))
+    top(os.path.join(models, "top_heavy.toml"))
+    coin(os.path.join(models, "rolling_coin.toml"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
