@@ -15,7 +15,8 @@ makes M positive definite (4 G^T J G is singular, e spans its kernel) and change
 nor R on the manifold (proof in docs/bodies-spatial.md, test in
 tests/modelfile/test_modelfile_spatial_bodies.cpp).
 
-Run: python3 scripts/make_spatial_models.py   (writes the three files into models/)
+Run: python3 scripts/make_spatial_models.py   (writes the three models into models/ and a case
+for each into cases/)
 """
 import os
 import sys
@@ -218,11 +219,102 @@ def coin(path):
         "rolling_coin", coordinates(b), params, defs, kinetic(b), pot, cons, outputs)
 
 
+# ---- cases: initial states from the closed forms (plain floats) ----------------------------
+
+def E_num(e):
+    e0, e1, e2, e3 = e
+    return [[-e1, e0, -e3, e2], [-e2, e3, e0, -e1], [-e3, -e2, e1, e0]]
+
+
+def G_num(e):
+    e0, e1, e2, e3 = e
+    return [[-e1, e0, e3, -e2], [-e2, -e3, e0, e1], [-e3, e2, -e1, e0]]
+
+
+def e_dot(e, w, frame):
+    """e_d = 1/2 E^T w (w in ground) or 1/2 G^T w (w in the body frame)."""
+    M = E_num(e) if frame == "ground" else G_num(e)
+    return [0.5 * sum(M[k][i] * w[k] for k in range(3)) for i in range(4)]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def write_case(path, header, model, body, r, e, v, ed, solver, params=None):
+    out = [f"# {line}" for line in header]
+    out.append("# Initial state written by scripts/make_spatial_models.py (e_d = 1/2 E(e)^T w).")
+    out += [f'model = "../models/{model}"', ""]
+    if params:
+        out.append("[parameters]")
+        out += [f"{k} = {v!r}" for k, v in params.items()]
+        out.append("")
+    out.append("[initial]")
+    for name, val in zip(["x", "y", "z"], r):
+        out.append(f"{body}_{name} = {val!r}")
+    for i, val in enumerate(e):
+        out.append(f"{body}_e{i} = {val!r}")
+    for name, val in zip(["x", "y", "z"], v):
+        out.append(f"{body}_{name}_d = {val!r}")
+    for i, val in enumerate(ed):
+        out.append(f"{body}_e{i}_d = {val!r}")
+    out += ["", "[solver]"] + solver + ["", "[output]", "dt = 0.01"]
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def cases(d):
+    import math
+    # Tumbling: w = (0.15, 3, 0.15) rad/s in the body frame, near the intermediate axis.
+    e = [0.9, 0.1, 0.3, 0.2]
+    n = math.sqrt(sum(x * x for x in e))
+    e = [x / n for x in e]
+    write_case(os.path.join(d, "tumbling_body.toml"), [
+        "A free asymmetric body spinning near its intermediate axis (models/tumbling_body.toml):",
+        "w2 flips sign every ~4 s (the Dzhanibekov effect), energy and |H| stay constant.",
+        "Checked against Euler's equations by tests/modelfile/test_modelfile_spatial_bodies.cpp.",
+        "Run:  pcsim run cases/tumbling_body.toml && pcsim plot out/tumbling_body"],
+        "tumbling_body.toml", "b", [1000.0, -800.0, 500.0], e, [0.3, -0.2, 0.1],
+        e_dot(e, [0.15, 3.0, 0.15], "body"), ["t_end = 20.0", "rtol = 1.0e-10", "atol = 1.0e-10"])
+    # Heavy top: theta = 0.5, spin 40 rad/s, the slow steady precession.
+    m, l, g, J1, J3, th, w3 = 1.0, 0.1, 9.81, 0.005, 0.008, 0.5, 40.0
+    I1 = J1 + m * l * l
+    a, b, c = I1 * math.cos(th), -J3 * w3, m * g * l
+    Om = (-b - math.sqrt(b * b - 4 * a * c)) / (2 * a)
+    e = [math.cos(th / 2), math.sin(th / 2), 0.0, 0.0]
+    k = [0.0, -math.sin(th), math.cos(th)]
+    w = [Om * (i == 2) + (w3 - Om * math.cos(th)) * k[i] for i in range(3)]
+    write_case(os.path.join(d, "top_heavy.toml"), [
+        "The heavy symmetric top (models/top_heavy.toml) started in steady precession:",
+        f"nutation 0.5 rad, spin 40 rad/s, precession {Om:.6f} rad/s (the closed form",
+        "Omega (J3 w3 - (J1 + m l^2) Omega cos(theta)) = m g l, slow root). The precession output",
+        "stays constant. Run:  pcsim run cases/top_heavy.toml && pcsim plot out/top_heavy"],
+        "top_heavy.toml", "top", [l * x for x in k], e, cross(w, [l * x for x in k]),
+        e_dot(e, w, "ground"), ["t_end = 7.0", "rtol = 1.0e-9", "atol = 1.0e-10"])
+    # Rolling coin: leaning in by beta = 0.3 rad on a circle of radius Rc = 0.5 m.
+    r, beta, Rc = 0.05, 0.3, 0.5
+    Om = math.sqrt(g * math.tan(beta) / (1.5 * Rc + r * math.sin(beta) / 4))
+    spin = Om * (Rc / r + math.sin(beta))
+    gam = -math.pi / 2 - beta
+    e = [math.cos(gam / 2), math.sin(gam / 2), 0.0, 0.0]
+    kax = [0.0, math.cos(beta), -math.sin(beta)]
+    dv = [0.0, math.sin(beta), math.cos(beta)]
+    w = [Om * (i == 2) + spin * kax[i] for i in range(3)]
+    write_case(os.path.join(d, "rolling_coin.toml"), [
+        "A coin rolling steadily on a circle (models/rolling_coin.toml): radius 0.05 m, leaning",
+        f"0.3 rad into the turn, its centre on a circle of 0.5 m at {Om:.6f} rad/s (the closed",
+        "form Omega^2 = g tan(beta) / (3 Rc/2 + r sin(beta)/4)): the tilt stays constant.",
+        "Run:  pcsim run cases/rolling_coin.toml && pcsim plot out/rolling_coin"],
+        "rolling_coin.toml", "coin", [r * x for x in dv], e, cross(w, [r * x for x in dv]),
+        e_dot(e, w, "ground"), ["t_end = 10.0", "rtol = 1.0e-9", "atol = 1.0e-10"])
+
+
 def main():
     models = os.path.join(ROOT, "models")
     tumbling(os.path.join(models, "tumbling_body.toml"))
     top(os.path.join(models, "top_heavy.toml"))
     coin(os.path.join(models, "rolling_coin.toml"))
+    cases(os.path.join(ROOT, "cases"))
     return 0
 
 
