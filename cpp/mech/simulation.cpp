@@ -141,7 +141,7 @@ class Run {
       out.R = out.qdd;
       out.lambda = Eigen::VectorXd::Constant(s_, std::nan(""));
     }
-    model_.derived(t, q, qd, out.qdd, out.R, out.derived);
+    model_.derived_with_multipliers(t, q, qd, out.qdd, out.R, set_.rows(), out.lambda, out.derived);
     out.residual_pos = sample_dyn_.position_residual(t, q);
     out.residual_vel = sample_dyn_.velocity_residual(qd);
   }

@@ -414,6 +414,13 @@ SymbolicModel derive(const ModelSource& src) {
     out.define("R_" + src.coordinates[i], m.R[i]);
     out.define(src.coordinates[i] + "_dd", m.qdd[i]);
   }
+  // The multiplier of each constraint (issue 22): R = gᵀ λ; NaN while the constraint is off.
+  for (const auto& c : src.constraints) {
+    m.lambda.push_back(GiNaC::realsymbol("lambda_" + c.spec.name));
+    out.define("lambda_" + c.spec.name, m.lambda.back());
+  }
+  base.add_hint({"lambda_", "", "the multipliers lambda_<constraint> may be used only in [" +
+                                    (src.prefix.empty() ? std::string("outputs") : src.prefix + ".outputs") + "]"});
   const std::string outputs_key = src.prefix.empty() ? "outputs" : src.prefix + ".outputs";
   std::string coordinate_list;
   for (const auto& c : src.coordinates) coordinate_list += (coordinate_list.empty() ? "" : ", ") + c;
@@ -452,7 +459,8 @@ SymbolicModel derive(const ModelSource& src) {
     m.definitions.emplace_back(symbol, value);
     calc.define(symbol, value);
     out.define(name, symbol);
-    if (first_used(calc, value, m.R) >= 0 || first_used(calc, value, m.qdd) >= 0) {
+    if (first_used(calc, value, m.R) >= 0 || first_used(calc, value, m.qdd) >= 0 ||
+        first_used(calc, value, m.lambda) >= 0) {
       base.add_hint({name, "", "the definition '" + name + "' uses reactions or accelerations, "
                                "so only [" + outputs_key + "] may use it", true});
     } else {
@@ -654,7 +662,7 @@ class TapeBuilder {
       memo[s] = add_node(node);
     };
     input(m.t);
-    for (const auto* v : {&m.q, &m.qd, &m.qdd, &m.R}) {
+    for (const auto* v : {&m.q, &m.qd, &m.qdd, &m.R, &m.lambda}) {
       for (const ex& s : *v) input(s);
     }
     for (std::size_t i = 0; i < m.parameters.size(); ++i) {
@@ -1343,7 +1351,9 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
   tape.qd_slot = tape.q_slot + n;
   tape.qdd_slot = tape.qd_slot + n;
   tape.R_slot = tape.qdd_slot + n;
-  next += 1 + 4 * n;
+  tape.lambda_slot = tape.R_slot + n;
+  tape.n_lambda = static_cast<std::uint32_t>(m.lambda.size());
+  next += 1 + 4 * n + tape.n_lambda;
   for (std::size_t id = 0; id < N; ++id) {
     const auto& node = b.nodes[id];
     if (node.kind == TapeBuilder::Kind::instr && node.state && used_any[id]) slot[id] = next++;
