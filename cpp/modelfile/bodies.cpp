@@ -1293,23 +1293,28 @@ Marker read_marker(Expander& x, const Body& b, bool planar, const std::string& n
   Marker m;
   m.name = name;
   m.key = key;
+  // Ground's markers serve planar and spatial bodies: [x, y] or [x, y, z] (BODIES-SPATIAL).
+  auto position_planar = [&](const toml::node& n) {
+    const toml::array* a = n.as_array();
+    return b.ground ? !(a && a->size() == 3) : planar;
+  };
   if (node.is_array()) {
-    m.p = x.vector(node, key, planar);
+    m.p = x.vector(node, key, position_planar(node));
     return m;
   }
   const toml::table* t = node.as_table();
   if (!t) x.fail(key, "a position [x, y] in the body frame, or { at = [x, y], angle = \"...\" }");
   for (auto&& [k, v] : *t) {
     const std::string kk(k.str());
-    if (kk != "at" && kk != "angle")
-      x.fail(key + "." + kk, "unknown key (expected one of: at, angle)");
+    if (kk != "at" && kk != "angle" && kk != "axis")
+      x.fail(key + "." + kk, "unknown key (expected one of: at, angle, axis)");
   }
-  if (auto at = t->get("at")) m.p = x.vector(*at, key + ".at", planar);
-  if (auto a = t->get("angle")) {
-    if (!planar) x.fail(key + ".angle", "an angle only for a marker of a planar body");
+  if (auto at = t->get("at")) m.p = x.vector(*at, key + ".at", position_planar(*at));
+  if (t->get("axis") || (!planar && !b.ground)) {
+    m.R = spatial_marker_axes(x, *t, key);  // bodies_spatial.cpp: turned by angle about axis
+  } else if (auto a = t->get("angle")) {
     m.R = Mat3::rot_z(x.expression(*a, key + ".angle"));
   }
-  (void)b;
   return m;
 }
 

@@ -236,6 +236,9 @@ void register_spatial_bodies();
 /// A joint type for bodies that are not planar under a name a planar type also uses (revolute,
 /// prismatic, fixed, ...): the expander picks it when either body of the joint is not planar.
 void register_spatial_joint_type(std::shared_ptr<const JointType> type);
+/// (BODIES-SPATIAL, bodies_spatial.cpp) A spatial marker's axes (marker -> body) from its table
+/// { at = [...], axis = [ax, ay, az], angle = "..." }: the body frame turned by angle about axis.
+Mat3 spatial_marker_axes(Expander& x, const toml::table& t, const std::string& key);
 
 /// The expansion of one [model] table: used by the parser; the kinds, joints and forces call
 /// back into it to read keys and to add to the energy form.
