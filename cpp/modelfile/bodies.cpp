@@ -1239,7 +1239,7 @@ void Gravity::apply(Expander& x, const std::string&, const std::string& key, con
   for (const Body& b : x.bodies()) {
     if (b.ground) continue;
     const Vec3 c = add(b.pose.r, bodies::apply(b.pose.A, b.com));
-    x.add_potential(neg(mul(b.mass, paren(dot(g, c)))));
+    x.add_potential(mul(b.mass, paren(neg(dot(g, c)))));
   }
 }
 
@@ -1681,14 +1681,18 @@ void Expander::finish() {
       F = bodies::apply(j.axes, F);
       M = bodies::apply(j.axes, M);
     }
+    // Each component is a definition <joint>_Fx (usable in the user's outputs) and a column
+    // F_<joint>_x.
     const char* ax[3] = {"x", "y", "z"};
     for (int i = 0; i < 3; ++i) {
       if (j.planar && i == 2) continue;
-      add_output("F_" + j.name + "_" + ax[i], F[i].empty() ? "0" : F[i], key);
+      const std::string d = define(j.name + "_F" + ax[i], F[i].empty() ? "0" : F[i], key);
+      add_output("F_" + j.name + "_" + ax[i], d, key);
     }
     for (int i = 0; i < 3; ++i) {
       if (j.planar && i < 2) continue;
-      add_output("M_" + j.name + "_" + ax[i], M[i].empty() ? "0" : M[i], key);
+      const std::string d = define(j.name + "_M" + ax[i], M[i].empty() ? "0" : M[i], key);
+      add_output("M_" + j.name + "_" + ax[i], d, key);
     }
   }
 }

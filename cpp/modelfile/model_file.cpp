@@ -237,6 +237,9 @@ void check_unique_names(const ModelSource& src) {
   for (const auto& c : src.constraints) {
     declare(c.spec.name, "a constraint", c.spec.added ? c.holonomic.where : src.where,
             c.spec.added ? c.holonomic.key : c.key + ".name");
+    declare("lambda_" + c.spec.name, "the multiplier of constraint '" + c.spec.name + "'",
+            c.spec.added ? c.holonomic.where : src.where,
+            c.spec.added ? c.holonomic.key : c.key + ".name");
   }
   for (const auto& [name, e] : src.outputs) declare(name, "an output", e.where, e.key);
 }
