@@ -88,7 +88,7 @@ def toml_value(v):
 
 
 def write_model(path, header, name, coords, params, defines, kinetic_expr, potential, constraints,
-                outputs):
+                outputs, draw=None):
     out = [f"# {line}" if line else "#" for line in header]
     out.append("# Written by scripts/make_spatial_models.py (Euler-parameter kinematics,")
     out.append("# docs/bodies-spatial.md). Do not edit: change the script and run it again.")
@@ -114,8 +114,25 @@ def write_model(path, header, name, coords, params, defines, kinetic_expr, poten
     out += ["", "[model.outputs]"]
     for k, v in outputs.items():
         out.append(f'{k} = "{v}"')
+    if draw:
+        out += ["", "[model.draw]", 'view = "3d"']
+        for name, (x, y, z) in draw["points"]:
+            out += ["[[model.draw.point]]", f'name = "{name}"', f'x = "{x}"', f'y = "{y}"', f'z = "{z}"']
+        for line in draw["lines"]:
+            out += ["[[model.draw.line]]", "points = [" + ", ".join(f'"{n}"' for n in line) + "]"]
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
+
+
+def axes_draw(b, lengths, extra_points=(), extra_lines=()):
+    """A drawing of body b: its centre and the tips of its body axes (lengths per axis)."""
+    pts = [("centre", (f"{b}_x", f"{b}_y", f"{b}_z"))]
+    for j, L in enumerate(lengths):
+        for sgn, tag in ((1, "p"), (-1, "m")):
+            pts.append((f"{'xyz'[j]}{tag}", tuple(f"{b}_{c} {'+' if sgn > 0 else '-'} {L}*{b}_a{i + 1}{j + 1}"
+                                                  for i, c in enumerate("xyz"))))
+    lines = [["xm", "xp"], ["ym", "yp"], ["zm", "zp"], ["xp", "yp", "xm", "ym", "xp"]]
+    return {"points": pts + list(extra_points), "lines": lines + list(extra_lines)}
 
 
 def body_params(b, m, J):
@@ -151,7 +168,7 @@ def tumbling(path):
         "body-frame angular velocity w1..w3, the angular momentum H1..H3 in ground and |H|, the",
         "energy; all but w are conserved."],
         "tumbling_body", coordinates(b), body_params(b, 2.0, (0.1, 0.2, 0.3)), defs, kinetic(b),
-        "", [norm_constraint(b)], outputs)
+        "", [norm_constraint(b)], outputs, axes_draw(b, (0.5, 0.35, 0.25)))
 
 
 def top(path):
@@ -178,7 +195,8 @@ def top(path):
         "is held at (X0, Y0, Z0) by a spherical joint (rows tip_x, tip_y, tip_z in ground axes).",
         "Outputs: the symmetry axis k = (kx, ky, kz) in ground, the spin (body-z angular",
         "velocity), the precession rate (the azimuth rate of k) and the energy."],
-        "top_heavy", coordinates(b), params, defs, kinetic(b), pot, cons, outputs)
+        "top_heavy", coordinates(b), params, defs, kinetic(b), pot, cons, outputs,
+        axes_draw(b, ("0.06", "0.06", "0.02"), [("tip", ("X0", "Y0", "Z0"))], [["tip", "zm"]]))
 
 
 def coin(path):
@@ -216,7 +234,9 @@ def coin(path):
         "no-slip rows roll_x, roll_y (velocity form: the rim point touching the plane has zero",
         "horizontal velocity). Outputs: tilt = the angle of the disk plane from vertical,",
         "the contact point (px, py), the energy (conserved: rolling does no work)."],
-        "rolling_coin", coordinates(b), params, defs, kinetic(b), pot, cons, outputs)
+        "rolling_coin", coordinates(b), params, defs, kinetic(b), pot, cons, outputs,
+        axes_draw(b, ("r", "r", "r/4"), [("contact", ("coin_x + coin_rx", "coin_y + coin_ry", "0"))],
+                  [["centre", "contact"]]))
 
 
 # ---- cases: initial states from the closed forms (plain floats) ----------------------------

@@ -10,6 +10,7 @@
 // (marker1's axes u1, v1, w1 on body1; d = P2 − P1 the vector between the markers), so the
 // multiplier of a force row is that component of the force on body2, and the moment on body2
 // (about marker2) is returned in the joint frame too.
+#include <array>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -62,6 +63,18 @@ Mat3 rotation_texts(const Body& b) {
 
 std::string a_name(const Body& b, int i, int j) {
   return b.name + "_a" + std::to_string(i + 1) + std::to_string(j + 1);
+}
+
+// Named rates of a spatial body (kept as symbols by the derivation, so that T is written in
+// them; this also keeps the tape the same from load to load, which inline sums with numeric
+// coefficients squared do not): NAME_w1..3 (body-frame angular velocity) and NAME_vc1..3 (the
+// centre of mass's velocity in ground).
+void define_rates(Expander& x, const Body& b, const Pose& p, const std::string& key,
+                  const std::array<Expr, 3>* w_text = nullptr) {
+  for (int i = 0; i < 3; ++i)
+    x.define(b.name + "_w" + std::to_string(i + 1), w_text ? (*w_text)[static_cast<std::size_t>(i)] : p.w_body[i].text(), key);
+  const LinVec3 vc = add(p.v, cross(p.w, apply(p.A, b.com)));
+  for (int i = 0; i < 3; ++i) x.define(b.name + "_vc" + std::to_string(i + 1), vc[i].text(), key);
 }
 
 bool all_numbers(const Mat3& J) {
@@ -154,19 +167,32 @@ class SpatialBody : public BodyKind {
     const Mat3 A = rotation_texts(b);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) x.define(a_name(b, i, j), A.m[i][j], b.key);
+    define_rates(x, b, b.pose, b.key);
+    std::vector<Expr> s;
+    for (int i = 0; i < 4; ++i) s.push_back(e_name(b, i) + "*" + e_name(b, i) + "_d");
+    x.define(b.name + "_s", sum(s), b.key);
     Row r;
     r.name = b.name + "_norm";
     r.holonomic = e_name(b, 0) + "^2 + " + e_name(b, 1) + "^2 + " + e_name(b, 2) + "^2 + " + e_name(b, 3) + "^2 - 1";
     x.add_constraint(r, b.key);
   }
 
+  // ½ m |v_c|² + ½ ω'ᵀ J ω' (+ ½ k (e·ė)² for a body with Euler parameters), in the named rates.
   Expr kinetic(const Body& b) const override {
-    Expr T = BodyKind::kinetic(b);
+    const std::string n = b.name;
+    Expr T = mul(mul("1/2", b.mass), "(" + n + "_vc1^2 + " + n + "_vc2^2 + " + n + "_vc3^2)");
+    std::vector<Expr> rot;
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        const Expr& J = b.inertia.m[i][j];
+        if (is_zero(J)) continue;
+        const std::string wi = n + "_w" + std::to_string(i + 1), wj = n + "_w" + std::to_string(j + 1);
+        rot.push_back(i == j ? mul(J, wi + "^2") : mul(mul("2", J), wi + "*" + wj));
+      }
+    if (!rot.empty()) T = add(T, mul("1/2", paren(sum(rot))));
     if (!b.parent_joint.empty()) return T;  // placed by a tree joint: no Euler parameters
-    std::vector<Expr> s;
-    for (int i = 0; i < 4; ++i) s.push_back(e_name(b, i) + "*" + e_name(b, i) + "_d");
     const Expr k = "4*(" + sum({b.inertia.m[0][0], b.inertia.m[1][1], b.inertia.m[2][2]}) + ")/3";
-    return add(T, "1/2*" + paren(k) + "*(" + sum(s) + ")^2");
+    return add(T, "1/2*" + paren(k) + "*" + n + "_s^2");
   }
 };
 
@@ -297,6 +323,17 @@ class SpatialRevolute : public JointType {
     p.w_body = add(apply_transposed(Arel, b1.pose.w_body), w2b_own);
     p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, m1.p))),
               cross(p.w, scale("-1", apply(p.A, m2.p))));
+    // ω'2 = Arelᵀ ω'1 + θ̇ R2 ẑ, written in body1's named rates (body1 spatial) for a short T.
+    std::array<Expr, 3> wt;
+    const bool named = !b1.ground && !x.kind(b1).planar();
+    for (int i = 0; i < 3; ++i) {
+      std::vector<Expr> terms;
+      if (named)
+        for (int k = 0; k < 3; ++k) terms.push_back(mul(Arel.m[k][i], b1.name + "_w" + std::to_string(k + 1)));
+      terms.push_back(mul(m2.R.m[i][2], th + "_d"));
+      wt[static_cast<std::size_t>(i)] = sum(terms);
+    }
+    define_rates(x, b2, p, j.key, (named || b1.ground) ? &wt : nullptr);
     rel.A = Arel;
     rel.r = sub(m1.p, apply(Arel, m2.p));
     rel.w = wrel_parent;
