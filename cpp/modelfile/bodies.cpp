@@ -278,6 +278,17 @@ Lin velocity_of(const std::string& coordinate) {
   return l;
 }
 
+namespace {
+Vec3 texts(const LinVec3& v) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = v[i].text();
+  return r;
+}
+}  // namespace
+Vec3 velocity_text(const Pose& p) { return p.has_text ? p.v_text : texts(p.v); }
+Vec3 angular_velocity_text(const Pose& p) { return p.has_text ? p.w_text : texts(p.w); }
+Vec3 body_angular_velocity_text(const Pose& p) { return p.has_text ? p.w_body_text : texts(p.w_body); }
+
 const Marker* Body::marker(const std::string& n) const {
   for (const auto& m : markers)
     if (m.name == n) return &m;
@@ -313,8 +324,6 @@ void ensure_registered() {
 
 }  // namespace
 
-__attribute__((weak)) void register_spatial_bodies() {}
-
 void register_body_kind(std::shared_ptr<const BodyKind> kind) {
   registry().kinds[kind->name()] = std::move(kind);
 }
@@ -340,20 +349,45 @@ void BodyKind::read_inertia(Expander& x, const toml::node* node, Body& b) const 
 
 Expr BodyKind::kinetic(const Body& b) const {
   // ½ m |v_c|² + ½ ω_bᵀ J ω_b, v_c = v + ω × (A c).
-  const Vec3 c = apply(b.pose.A, b.com);
-  const LinVec3 vc = add(b.pose.v, cross(b.pose.w, c));
+  const Vec3 wb = body_angular_velocity_text(b.pose);
   std::vector<Expr> lin;
-  for (int i = 0; i < 3; ++i) {
-    const Expr t = vc[i].text();
-    if (!is_zero(t)) lin.push_back("(" + t + ")^2");
+  auto squares = [&](const Vec3& v) {
+    for (int i = 0; i < 3; ++i)
+      if (!is_zero(v[i])) lin.push_back("(" + v[i] + ")^2");
+  };
+  // v_c = V_o + A (ω_b × c), V_o the velocity of the body frame's origin; and for a body placed
+  // on a parent P, V_o = V_P + A_P u_o (u_o: the origin's velocity relative to P's, in P's
+  // frame, P's rotation included). Rotations keep lengths, so |v_c|² is written as the sum of
+  // the squares of the rotation-free parts and cross terms: no sin² + cos² for the algebra to
+  // miss (the sieve's roller gives the paper's m2 (s² + u²) θ̇², its rotor m0 e² (θ̇ + ω)²).
+  const Vec3 wc = cross(wb, b.com);  // body frame
+  auto cross_term = [&](const Expr& e) {
+    if (!is_zero(e)) lin.push_back(mul("2", paren(e)));
+  };
+  if (b.parent.empty()) {
+    const Vec3 V = velocity_text(b.pose);
+    squares(V);
+    cross_term(dot(V, apply(b.pose.A, wc)));
+  } else {
+    const Pose& P = b.parent_pose;
+    Vec3 rel_v;
+    for (int i = 0; i < 3; ++i) rel_v[i] = b.relative.v[i].text();
+    const Vec3 uo = add(cross(body_angular_velocity_text(P), b.relative.r), rel_v);
+    const Vec3 VP = velocity_text(P);
+    squares(VP);
+    squares(uo);
+    cross_term(dot(VP, apply(P.A, uo)));
+    cross_term(dot(VP, apply(b.pose.A, wc)));
+    cross_term(dot(uo, apply(b.relative.A, wc)));
   }
+  squares(wc);
   Expr T = "0";
   if (!lin.empty()) T = mul(mul("1/2", b.mass), paren(sum(lin)));
   std::vector<Expr> rot;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       if (is_zero(b.inertia.m[i][j])) continue;
-      const Expr wi = b.pose.w_body[i].text(), wj = b.pose.w_body[j].text();
+      const Expr wi = wb[i], wj = wb[j];
       if (is_zero(wi) || is_zero(wj)) continue;
       if (i == j) rot.push_back(mul(b.inertia.m[i][j], "(" + wi + ")^2"));
       else rot.push_back(mul(b.inertia.m[i][j], mul("(" + wi + ")", "(" + wj + ")")));
@@ -676,6 +710,25 @@ Pose planar_tree_pose(Expander& x, const Joint& j, const PlanarDof& tx, const Pl
   const LinVec3 vm2 = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, local))),
                           apply(b1.pose.A, apply(Rm1, tdot)));
   p.v = add(vm2, cross(p.w, scale("-1", apply(A2, m2.p))));
+  // The same velocities as short texts on the parent's (definitions): for the energy.
+  {
+    const Vec3 v1 = velocity_text(b1.pose), w1 = angular_velocity_text(b1.pose);
+    Vec3 w2;
+    w2[2] = add(w1[2], phi.rate.text());
+    Vec3 tdt;
+    tdt[0] = tx.rate.text();
+    tdt[1] = ty.rate.text();
+    const Vec3 vm2t = add(add(v1, cross(w1, apply(b1.pose.A, local))), apply(b1.pose.A, apply(Rm1, tdt)));
+    const Vec3 v2 = add(vm2t, cross(w2, scale("-1", apply(A2, m2.p))));
+    p.has_text = true;
+    const char* ax[3] = {"x", "y", "z"};
+    for (int i = 0; i < 2; ++i) {
+      const Expr e = v2[i];
+      p.v_text[i] = (is_zero(e) || !has_top_level_additive(e)) ? e : x.define(b2.name + "_v" + ax[i], e, key);
+    }
+    p.w_text[2] = (is_zero(w2[2]) || !has_top_level_additive(w2[2])) ? w2[2] : x.define(b2.name + "_w", w2[2], key);
+    p.w_body_text = p.w_text;
+  }
   // relative to body1: r = local - R(th_rel) p2, A = R(th_rel), rates in body1 components
   const Expr th_rel = sub(add(am1, phi.value), am2);
   rel.A = Mat3::rot_z(th_rel);
@@ -1571,6 +1624,7 @@ void Expander::run() {
       Pose p = type.tree_pose(*this, j, rel);
       I.bodies[i].pose = p;
       I.bodies[i].relative = rel;
+      I.bodies[i].parent_pose = body(j.body1, j.key).pose;
     }
     state[i] = 2;
   };
@@ -1648,11 +1702,11 @@ void Expander::run() {
     for (const Marker& m : b.markers) {
       if (m.name == "origin") continue;
       const Vec3 P = marker_position(b, m);
-      const LinVec3 V = marker_velocity(b, m);
+      const Vec3 V = add(velocity_text(b.pose), cross(angular_velocity_text(b.pose), apply(b.pose.A, m.p)));
       const char* ax[3] = {"x", "y", "z"};
       for (int i = 0; i < (planar ? 2 : 3); ++i) {
         define(b.name + "_" + m.name + "_" + ax[i], P[i], m.key);
-        define(b.name + "_" + m.name + "_v" + ax[i], V[i].text(), m.key);
+        define(b.name + "_" + m.name + "_v" + ax[i], V[i], m.key);
       }
     }
   }
@@ -1672,6 +1726,60 @@ void Expander::run() {
 
 void Expander::finish() {
   Impl& I = *impl_;
+  // A default drawing from the bodies' shapes, when the model has no [model.draw].
+  bool any_shape = false;
+  for (const Body& b : I.bodies) any_shape = any_shape || !b.shape.type.empty();
+  if (any_shape && !I.model->get("draw")) {
+    bool planar = true;
+    for (const Body& b : I.bodies)
+      if (!b.ground && !kind(b).planar()) planar = false;
+    toml::table draw;
+    draw.insert("view", planar ? "2d" : "3d");
+    toml::array points, lines, polygons, circles;
+    auto point_table = [&](const Vec3& P) {
+      toml::table t;
+      t.insert("x", P[0]);
+      t.insert("y", P[1]);
+      if (!planar) t.insert("z", P[2]);
+      return t;
+    };
+    for (const Body& b : I.bodies) {
+      if (b.shape.type.empty()) continue;
+      const Shape& sh = b.shape;
+      toml::table style;
+      if (sh.type == "rod") {
+        toml::array pts;
+        pts.push_back(point_table(marker_position(b, *b.marker(sh.from))));
+        pts.push_back(point_table(marker_position(b, *b.marker(sh.to))));
+        toml::table line;
+        line.insert("points", pts);
+        lines.push_back(line);
+      } else if (sh.type == "box") {
+        const Expr w = mul("1/2", sh.width.empty() ? "0" : sh.width), h = mul("1/2", sh.height.empty() ? "0" : sh.height);
+        toml::array pts;
+        for (const auto& [sx, sy] : std::vector<std::pair<int, int>>{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+          Vec3 c;
+          c[0] = sx < 0 ? neg(w) : w;
+          c[1] = sy < 0 ? neg(h) : h;
+          pts.push_back(point_table(add(b.pose.r, bodies::apply(b.pose.A, c))));
+        }
+        toml::table poly;
+        poly.insert("points", pts);
+        if (!sh.fill.empty()) poly.insert("fill", sh.fill);
+        polygons.push_back(poly);
+      } else if (sh.type == "circle") {
+        toml::table circle;
+        circle.insert("centre", point_table(b.pose.r));
+        circle.insert("radius", sh.radius.empty() ? "0" : sh.radius);
+        if (!sh.fill.empty()) circle.insert("fill", sh.fill);
+        circles.push_back(circle);
+      }
+    }
+    if (!lines.empty()) draw.insert("line", lines);
+    if (!polygons.empty()) draw.insert("polygon", polygons);
+    if (!circles.empty()) draw.insert("circle", circles);
+    detail::read_draw_table(draw, src_);
+  }
   if (I.reactions == "none") return;
   for (const Joint& j : I.joints) {
     if (!j.has_reaction) continue;

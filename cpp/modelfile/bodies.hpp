@@ -103,7 +103,17 @@ struct Pose {
   LinVec3 v;      ///< velocity of the origin
   LinVec3 w;      ///< angular velocity, ground components
   LinVec3 w_body; ///< angular velocity, body components (T uses ½ ω_bᵀ J ω_b)
+  /// Optional: v, w and w_body as short texts (names of generated definitions), which the
+  /// kinetic energy uses instead of the expanded linear forms (a chain of tree joints would
+  /// otherwise repeat each parent's velocity in every child: quadratic text). Empty: unused.
+  bool has_text = false;
+  Vec3 v_text, w_text, w_body_text;
 };
+/// The velocity of the body's origin, its angular velocity (ground, body) as texts: the
+/// definitions of has_text, or the linear forms written out.
+Vec3 velocity_text(const Pose& p);
+Vec3 angular_velocity_text(const Pose& p);
+Vec3 body_angular_velocity_text(const Pose& p);
 
 /// A named point (and frame) on a body: position p and axes R (marker -> body) in the body frame.
 struct Marker {
@@ -138,6 +148,7 @@ struct Body {
   /// frame; v, w the rates of r and of the relative rotation, parent components).
   Pose relative;
   std::string parent;        ///< the parent body of a tree-placed body
+  Pose parent_pose;          ///< ... and its pose (the kinetic energy is written in its frame)
   const Marker* marker(const std::string& name) const;
 };
 
@@ -230,8 +241,8 @@ class ForceType {
 void register_body_kind(std::shared_ptr<const BodyKind> kind);
 void register_joint_type(std::shared_ptr<const JointType> type);
 void register_force_type(std::shared_ptr<const ForceType> type);
-/// The spatial kinds, joints and forces (BODIES-SPATIAL, bodies_spatial.cpp) register themselves
-/// here; bodies.cpp holds a weak empty default, so the planar build links without them.
+/// The spatial kinds, joints and forces register themselves here (bodies_spatial.cpp); called
+/// once, before the first expansion.
 void register_spatial_bodies();
 /// A joint type for bodies that are not planar under a name a planar type also uses (revolute,
 /// prismatic, fixed, ...): the expander picks it when either body of the joint is not planar.
