@@ -122,6 +122,17 @@ class Model {
   virtual void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                        const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                        Eigen::VectorXd& out) const = 0;
+  /// The same, with the multipliers of the imposed constraints: lambda[k] belongs to
+  /// constraint imposed[k] (R = gᵀ λ); the others' multipliers are NaN. Models whose outputs
+  /// use multipliers (model files: lambda_<constraint>) override it; the default ignores them.
+  virtual void derived_with_multipliers(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                        const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
+                                        const std::vector<int>& imposed, const Eigen::VectorXd& lambda,
+                                        Eigen::VectorXd& out) const {
+    (void)imposed;
+    (void)lambda;
+    derived(t, q, qd, qdd, R, out);
+  }
 
   // ---- exact tangents (optional) ------------------------------------------------------------
   // Forward-mode directional derivatives of M, h, Q and the constraint rows with respect to

@@ -170,6 +170,17 @@ double ExpressionModel::position_residual(int i, double t, const Eigen::VectorXd
 void ExpressionModel::derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                               const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                               Eigen::VectorXd& out) const {
+  static const std::vector<int> none;
+  derived_with_multipliers(t, q, qd, qdd, R, none, Eigen::VectorXd(), out);
+}
+
+void ExpressionModel::derived_with_multipliers(double t, const Eigen::VectorXd& q,
+                                               const Eigen::VectorXd& qd,
+                                               const Eigen::VectorXd& qdd,
+                                               const Eigen::VectorXd& R,
+                                               const std::vector<int>& imposed,
+                                               const Eigen::VectorXd& lambda,
+                                               Eigen::VectorXd& out) const {
   const CompiledModel& c = *compiled_;
   const Block& b = c.tape.blocks[c.outputs_block];
   if (out.size() != static_cast<Eigen::Index>(b.results.size())) out.resize(b.results.size());
@@ -179,6 +190,14 @@ void ExpressionModel::derived(double t, const Eigen::VectorXd& q, const Eigen::V
   for (int i = 0; i < tape.n; ++i) {
     v[tape.qdd_slot + i] = qdd.size() == tape.n ? qdd[i] : std::numeric_limits<double>::quiet_NaN();
     v[tape.R_slot + i] = R.size() == tape.n ? R[i] : std::numeric_limits<double>::quiet_NaN();
+  }
+  if (tape.n_lambda > 0) {
+    for (std::uint32_t i = 0; i < tape.n_lambda; ++i)
+      v[tape.lambda_slot + i] = std::numeric_limits<double>::quiet_NaN();
+    const std::size_t k_max = std::min<std::size_t>(imposed.size(), static_cast<std::size_t>(lambda.size()));
+    for (std::size_t k = 0; k < k_max; ++k)
+      if (imposed[k] >= 0 && static_cast<std::uint32_t>(imposed[k]) < tape.n_lambda)
+        v[tape.lambda_slot + static_cast<std::uint32_t>(imposed[k])] = lambda[static_cast<Eigen::Index>(k)];
   }
   c.run_block(c.outputs_block, v);
   for (std::size_t k = 0; k < b.results.size(); ++k) out[static_cast<int>(k)] = v[b.results[k]];

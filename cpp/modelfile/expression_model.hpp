@@ -75,6 +75,10 @@ class ExpressionModel final : public mech::Model {
   void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                Eigen::VectorXd& out) const override;
+  void derived_with_multipliers(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
+                                const std::vector<int>& imposed, const Eigen::VectorXd& lambda,
+                                Eigen::VectorXd& out) const override;
 
   // ---- forward mode: k directions at once ---------------------------------------------------
   // V is (2n + 1) x k: each column a direction (δq, δq̇, δt). The outputs are the values (as

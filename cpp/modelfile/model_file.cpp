@@ -11,6 +11,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "modelfile/bodies.hpp"
 #include "modelfile/expression.hpp"
 #include "modelfile/expression_model.hpp"
 #include "modelfile/symbolic.hpp"
@@ -236,6 +237,9 @@ void check_unique_names(const ModelSource& src) {
   for (const auto& c : src.constraints) {
     declare(c.spec.name, "a constraint", c.spec.added ? c.holonomic.where : src.where,
             c.spec.added ? c.holonomic.key : c.key + ".name");
+    declare("lambda_" + c.spec.name, "the multiplier of constraint '" + c.spec.name + "'",
+            c.spec.added ? c.holonomic.where : src.where,
+            c.spec.added ? c.holonomic.key : c.key + ".name");
   }
   for (const auto& [name, e] : src.outputs) declare(name, "an output", e.where, e.key);
 }
@@ -324,8 +328,13 @@ ModelSource detail::read_model_source(const toml::table& model,
   src.where = source.empty() ? std::string("<model>") : source.string();
   src.prefix = prefix;
   const Reader r(src.where, prefix);
-  r.only(model, prefix, {"name", "coordinates", "parameters", "define", "energy", "forces",
-                         "constraint", "outputs", "period", "slow", "draw"});
+  std::vector<std::string> allowed{"name", "coordinates", "parameters", "define", "energy", "forces",
+                                   "constraint", "outputs", "period", "slow", "draw"};
+  for (const auto& k : bodies::body_form_keys()) allowed.push_back(k);
+  r.only(model, prefix, allowed);
+  const bool body_form = bodies::has_body_form(model);
+  if (!body_form && model.get("reactions"))
+    fail(src.where, r.key("reactions"), "reactions only in a model with bodies and joints ([" + r.key("body") + ".NAME])");
 
   if (auto n = model.get("name")) {
     src.name = r.string(*n, r.key("name"), "a string (the model name)");
@@ -336,9 +345,10 @@ ModelSource detail::read_model_source(const toml::table& model,
 
   // Coordinates.
   const toml::node* coords = model.get("coordinates");
-  if (!coords) fail(src.where, r.key("coordinates"), "the list of coordinates, e.g. [\"x\", \"y\"]");
-  const toml::array* ca = coords->as_array();
-  if (!ca || ca->empty()) {
+  if (!coords && !body_form) fail(src.where, r.key("coordinates"), "the list of coordinates, e.g. [\"x\", \"y\"]");
+  static const toml::array no_coordinates;
+  const toml::array* ca = coords ? coords->as_array() : &no_coordinates;
+  if (!ca || (ca->empty() && !body_form)) {
     fail(src.where, r.key("coordinates"), "a non-empty list of names, e.g. [\"x\", \"y\"]");
   }
   r.count(ca->size(), detail::limits::coordinates, r.key("coordinates"),
@@ -371,23 +381,54 @@ ModelSource detail::read_model_source(const toml::table& model,
     }
   }
 
+  // Bodies, joints and forces (issue 22, docs/bodies.md): expanded into the energy form here,
+  // before the energy-form keys, which add to what they generate.
+  std::optional<bodies::Expander> expander;
+  if (body_form) {
+    expander.emplace(src, model);
+    expander->run();
+    r.count(src.coordinates.size(), detail::limits::coordinates, r.key("coordinates"),
+            "coordinates with the generated ones");
+  }
+  // Combines an energy-form text with what the bodies generated for it.
+  auto combine = [&](ExprText& generated, ExprText user) {
+    if (!generated.text.empty() && !user.text.empty()) {
+      user.text = generated.text + " + (" + user.text + ")";
+    } else if (user.text.empty()) {
+      user.text = generated.text;
+      if (!generated.text.empty()) user.key = generated.key;
+    }
+    generated = user;
+  };
+
   // Energies.
   const toml::node* energy = model.get("energy");
-  if (!energy) {
+  if (!energy && !body_form) {
     fail(src.where, r.key("energy.kinetic"), "the kinetic energy T(q, q_d, t), an expression");
   }
-  const toml::table& et = r.table(*energy, r.key("energy"));
+  static const toml::table no_energy;
+  const toml::table& et = energy ? r.table(*energy, r.key("energy")) : no_energy;
   r.only(et, r.key("energy"), {"kinetic", "potential", "dissipation"});
+  ExprText kinetic{src.where, r.key("energy.kinetic"), ""};
   if (auto n = et.get("kinetic")) {
-    src.kinetic = r.expression(*n, r.key("energy.kinetic"));
-  } else {
+    kinetic = r.expression(*n, r.key("energy.kinetic"));
+  } else if (!body_form) {
     fail(src.where, r.key("energy.kinetic"), "the kinetic energy T(q, q_d, t), an expression");
   }
-  src.potential = ExprText{src.where, r.key("energy.potential"), ""};
-  src.dissipation = ExprText{src.where, r.key("energy.dissipation"), ""};
-  if (auto n = et.get("potential")) src.potential = r.expression(*n, r.key("energy.potential"));
-  if (auto n = et.get("dissipation")) {
-    src.dissipation = r.expression(*n, r.key("energy.dissipation"));
+  ExprText potential{src.where, r.key("energy.potential"), ""};
+  ExprText dissipation{src.where, r.key("energy.dissipation"), ""};
+  if (auto n = et.get("potential")) potential = r.expression(*n, r.key("energy.potential"));
+  if (auto n = et.get("dissipation")) dissipation = r.expression(*n, r.key("energy.dissipation"));
+  if (body_form) {
+    combine(src.kinetic, kinetic);
+    combine(src.potential, potential);
+    combine(src.dissipation, dissipation);
+    if (src.kinetic.text.empty())
+      fail(src.where, r.key("body"), "a body with mass (or [" + r.key("energy") + "] kinetic)");
+  } else {
+    src.kinetic = kinetic;
+    src.potential = potential;
+    src.dissipation = dissipation;
   }
 
   // Extra generalized forces, by coordinate.
@@ -397,7 +438,15 @@ ModelSource detail::read_model_source(const toml::table& model,
       const std::string k = r.key("forces." + name);
       const int i = coordinate_index(src, name);
       if (i < 0) fail(src.where, k, "a coordinate (one of: " + join(src.coordinates) + ")");
-      src.forces.push_back({i, r.expression(*node, k)});
+      ExprText e = r.expression(*node, k);
+      bool merged = false;
+      for (auto& [j, g] : src.forces)
+        if (j == i) {  // a generated force on the same coordinate (body form)
+          g.text = g.text + " + (" + e.text + ")";
+          g.key = k;
+          merged = true;
+        }
+      if (!merged) src.forces.push_back({i, e});
     }
   }
 
@@ -493,6 +542,10 @@ ModelSource detail::read_model_source(const toml::table& model,
       }
       src.slow.push_back(name);
     }
+  }
+  if (expander) {
+    expander->finish();
+    link_friction_constraints(src);
   }
   check_unique_names(src);
   if (auto n = model.get("draw")) detail::read_draw_table(*n, src);

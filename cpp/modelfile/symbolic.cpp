@@ -414,6 +414,13 @@ SymbolicModel derive(const ModelSource& src) {
     out.define("R_" + src.coordinates[i], m.R[i]);
     out.define(src.coordinates[i] + "_dd", m.qdd[i]);
   }
+  // The multiplier of each constraint (issue 22): R = gᵀ λ; NaN while the constraint is off.
+  for (const auto& c : src.constraints) {
+    m.lambda.push_back(GiNaC::realsymbol("lambda_" + c.spec.name));
+    out.define("lambda_" + c.spec.name, m.lambda.back());
+  }
+  base.add_hint({"lambda_", "", "the multipliers lambda_<constraint> may be used only in [" +
+                                    (src.prefix.empty() ? std::string("outputs") : src.prefix + ".outputs") + "]"});
   const std::string outputs_key = src.prefix.empty() ? "outputs" : src.prefix + ".outputs";
   std::string coordinate_list;
   for (const auto& c : src.coordinates) coordinate_list += (coordinate_list.empty() ? "" : ", ") + c;
@@ -452,7 +459,8 @@ SymbolicModel derive(const ModelSource& src) {
     m.definitions.emplace_back(symbol, value);
     calc.define(symbol, value);
     out.define(name, symbol);
-    if (first_used(calc, value, m.R) >= 0 || first_used(calc, value, m.qdd) >= 0) {
+    if (first_used(calc, value, m.R) >= 0 || first_used(calc, value, m.qdd) >= 0 ||
+        first_used(calc, value, m.lambda) >= 0) {
       base.add_hint({name, "", "the definition '" + name + "' uses reactions or accelerations, "
                                "so only [" + outputs_key + "] may use it", true});
     } else {
@@ -654,7 +662,7 @@ class TapeBuilder {
       memo[s] = add_node(node);
     };
     input(m.t);
-    for (const auto* v : {&m.q, &m.qd, &m.qdd, &m.R}) {
+    for (const auto* v : {&m.q, &m.qd, &m.qdd, &m.R, &m.lambda}) {
       for (const ex& s : *v) input(s);
     }
     for (std::size_t i = 0; i < m.parameters.size(); ++i) {
@@ -775,10 +783,32 @@ class TapeBuilder {
       } else {
         factor(e);
       }
-      std::sort(factors.begin(), factors.end());
-      h = 6;
-      for (std::uint64_t f : factors) h = mix(h, f);
-      h = mix(h, number_hash(c));
+      // A number times one grouped sum, k*pcsim_group(S), hashes as the sum k*S itself does
+      // (the add and group branches): GiNaC keeps -pcsim_group(S) as a product but folds the
+      // sign into the sum where nothing is held, so the same term reaches the tape in either
+      // form from load to load.
+      int others = 0;
+      ex lone;
+      if (GiNaC::is_a<GiNaC::mul>(e)) {
+        for (std::size_t i = 0; i < e.nops(); ++i) {
+          if (GiNaC::is_a<GiNaC::numeric>(e.op(i))) continue;
+          ++others;
+          lone = e.op(i);
+        }
+      }
+      if (others == 1 && GiNaC::is_a<GiNaC::add>(unwrap(lone))) {
+        GiNaC::numeric k = 1;
+        for (std::size_t i = 0; i < e.nops(); ++i) {
+          if (GiNaC::is_a<GiNaC::numeric>(e.op(i))) k *= GiNaC::ex_to<GiNaC::numeric>(e.op(i));
+        }
+        const auto& [cb, sp] = primitive(unwrap(lone));
+        h = mix(sum_hash(sp), number_hash(k * cb));
+      } else {
+        std::sort(factors.begin(), factors.end());
+        h = 6;
+        for (std::uint64_t f : factors) h = mix(h, f);
+        h = mix(h, number_hash(c));
+      }
     } else {
       std::vector<std::uint64_t> children;
       for (std::size_t i = 0; i < e.nops(); ++i) children.push_back(shash(e.op(i)));
@@ -843,6 +873,56 @@ class TapeBuilder {
     return out;
   }
 
+  // e with every grouped sum that is a plain term of a sum (pcsim_group(S) or -pcsim_group(S))
+  // melted into that sum. A group only keeps a number from being distributed over its sum (see
+  // group_eval); as a term with coefficient ±1 it protects nothing, but whether the derivation
+  // leaves one there depends on GiNaC's internal order, which changes from load to load (the
+  // same force reached the tape as a + b + c once and as c + group(a + b) the next time).
+  // Melted, every load gives the same sums, and so the same tape.
+  ex melt_groups(const ex& e) {
+    auto it = melt_memo_.find(e);
+    if (it != melt_memo_.end()) return it->second;
+    ex out;
+    if (GiNaC::is_a<GiNaC::add>(e)) {
+      GiNaC::exvector terms;
+      bool changed = false;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const ex t = melt_groups(e.op(i));
+        int sign = 0;
+        ex inner;
+        if (is_group(t)) {
+          sign = 1;
+          inner = t.op(0);
+        } else if (GiNaC::is_a<GiNaC::mul>(t) && t.nops() == 2) {
+          for (int j = 0; j < 2; ++j) {
+            const ex& a = t.op(j);
+            const ex& b = t.op(1 - j);
+            if (GiNaC::is_a<GiNaC::numeric>(a) && a.is_equal(-1) && is_group(b)) {
+              sign = -1;
+              inner = b.op(0);
+            }
+          }
+        }
+        if (sign != 0 && GiNaC::is_a<GiNaC::add>(inner)) {
+          for (std::size_t k = 0; k < inner.nops(); ++k) {
+            terms.push_back(sign > 0 ? inner.op(k) : ex(-inner.op(k)));
+          }
+          changed = true;
+        } else {
+          if (!t.is_equal(e.op(i))) changed = true;
+          terms.push_back(t);
+        }
+      }
+      out = changed ? ex(GiNaC::dynallocate<GiNaC::add>(std::move(terms))) : e;
+    } else if (e.nops() > 0 && !GiNaC::is_a<GiNaC::numeric>(e) && !GiNaC::is_a<GiNaC::symbol>(e)) {
+      out = e.map(melter_);
+    } else {
+      out = e;
+    }
+    melt_memo_.emplace(e, out);
+    return out;
+  }
+
   std::uint32_t compile(const ex& e) {
     auto it = memo.find(e);
     if (it != memo.end()) return it->second;
@@ -852,6 +932,14 @@ class TapeBuilder {
   }
 
  private:
+  struct Melter : GiNaC::map_function {
+    TapeBuilder* b;
+    explicit Melter(TapeBuilder* tb) : b(tb) {}
+    ex operator()(const ex& e) override { return b->melt_groups(e); }
+  };
+  Melter melter_{this};
+  std::unordered_map<ex, ex, ExHash, GiNaC::ex_is_equal> melt_memo_;
+
   std::unordered_map<ex, std::uint32_t, ExHash, GiNaC::ex_is_equal> memo;
   std::unordered_map<std::string, ex> definitions_;
   std::unordered_map<NodeKey, std::uint32_t, NodeKeyHash> dedupe_;
@@ -1212,7 +1300,7 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
   TapeBuilder b(m);
   auto compile = [&](const ex& e, const ExprText& where) {
     try {
-      return b.compile(e);
+      return b.compile(b.melt_groups(e));
     } catch (const std::runtime_error& err) {
       fail(where.where, where.key, std::string("cannot evaluate ") + err.what() +
                                        " (from \"" + where.text + "\")");
@@ -1343,7 +1431,9 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
   tape.qd_slot = tape.q_slot + n;
   tape.qdd_slot = tape.qd_slot + n;
   tape.R_slot = tape.qdd_slot + n;
-  next += 1 + 4 * n;
+  tape.lambda_slot = tape.R_slot + n;
+  tape.n_lambda = static_cast<std::uint32_t>(m.lambda.size());
+  next += 1 + 4 * n + tape.n_lambda;
   for (std::size_t id = 0; id < N; ++id) {
     const auto& node = b.nodes[id];
     if (node.kind == TapeBuilder::Kind::instr && node.state && used_any[id]) slot[id] = next++;

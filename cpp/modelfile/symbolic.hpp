@@ -21,6 +21,7 @@ struct SymbolicModel {
   int n = 0;
   // The symbols (GiNaC realsymbols), by index.
   std::vector<GiNaC::ex> q, qd, qdd, R;  ///< coordinates, x_d, x_dd, R_x
+  std::vector<GiNaC::ex> lambda;         ///< lambda_<constraint>, one per constraint (outputs)
   GiNaC::ex t;
   std::vector<GiNaC::ex> parameters;     ///< in ModelSource::parameters order
   std::vector<GiNaC::ex> hidden;         ///< Φ_i(q0, t0) of the from_initial constraints

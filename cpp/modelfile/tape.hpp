@@ -72,6 +72,8 @@ struct Tape {
   std::vector<std::uint32_t> parameter_slots;  ///< by parameter index
   std::vector<std::uint32_t> hidden_slots;     ///< by hidden-constant index
   std::uint32_t t_slot = 0, q_slot = 0, qd_slot = 0, qdd_slot = 0, R_slot = 0;  ///< first of n
+  /// The multipliers lambda_<constraint> (outputs only): n_lambda slots from lambda_slot.
+  std::uint32_t lambda_slot = 0, n_lambda = 0;
   std::vector<Instr> prelude;         ///< everything that depends only on parameters
   std::vector<Block> blocks;          ///< the state-dependent code, one block per use
 

@@ -10,7 +10,7 @@ namespace pcsim::modelfile {
 
 namespace {
 
-constexpr char kTag[] = "pcsim-compiled-model-2";  // 2: contact attributes (issue 12)
+constexpr char kTag[] = "pcsim-compiled-model-3";  // 2: contact attributes (issue 12); 3: lambda slots (issue 22)
 
 class Writer {
  public:
@@ -132,6 +132,8 @@ std::string serialize_compiled(const CompiledModel& c, const std::string& text) 
   w.pod(t.qd_slot);
   w.pod(t.qdd_slot);
   w.pod(t.R_slot);
+  w.pod(t.lambda_slot);
+  w.pod(t.n_lambda);
   w.pods(t.prelude);
   w.pod<std::uint64_t>(t.blocks.size());
   for (const auto& b : t.blocks) {
@@ -185,6 +187,8 @@ std::shared_ptr<CompiledModel> deserialize_compiled(const std::string& bytes, co
     t.qd_slot = r.pod<std::uint32_t>();
     t.qdd_slot = r.pod<std::uint32_t>();
     t.R_slot = r.pod<std::uint32_t>();
+    t.lambda_slot = r.pod<std::uint32_t>();
+    t.n_lambda = r.pod<std::uint32_t>();
     t.prelude = r.pods<Instr>();
     for (auto n = r.pod<std::uint64_t>(); n > 0; --n) {
       Block b;

@@ -157,7 +157,7 @@ void Segment::fill_sample(double t, const Eigen::VectorXd& q, const Eigen::Vecto
     out.R = out.qdd;
     out.lambda = Eigen::VectorXd::Constant(layout_.s_A, std::nan(""));
   }
-  model_.derived(t, q, qd, out.qdd, out.R, out.derived);
+  model_.derived_with_multipliers(t, q, qd, out.qdd, out.R, layout_.imposed, out.lambda, out.derived);
   out.residual_pos = 0.0;
   for (int i : layout_.imposed)
     if (model_.constraints()[i].kind == ConstraintKind::holonomic && modes_logic_.position_level(i))

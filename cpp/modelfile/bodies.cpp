@@ -1,0 +1,1831 @@
+// Bodies, joints and forces expanded into the energy form (bodies.hpp, docs/bodies.md).
+#include "modelfile/bodies.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <set>
+#include <sstream>
+
+#include <ginac/ginac.h>
+
+#include "common/format.hpp"
+#include "modelfile/expression.hpp"
+
+namespace pcsim::modelfile::bodies {
+
+using detail::ExprText;
+
+// ---- expression texts ----------------------------------------------------------------------
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+// True if the text has a binary or unary + or - outside parentheses (after the first char,
+// or a leading sign).
+bool has_top_level_additive(const std::string& s) {
+  int depth = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (c == '(') ++depth;
+    else if (c == ')') --depth;
+    else if (depth == 0 && (c == '+' || c == '-')) {
+      // exponent of a number literal: 1e-3
+      if (i > 0 && (s[i - 1] == 'e' || s[i - 1] == 'E') && i >= 2 &&
+          (std::isdigit(static_cast<unsigned char>(s[i - 2])) || s[i - 2] == '.')) {
+        // part of a number only if the token before 'e' is numeric
+        std::size_t j = i - 1;
+        while (j > 0 && (std::isalnum(static_cast<unsigned char>(s[j - 1])) || s[j - 1] == '_' ||
+                         s[j - 1] == '.'))
+          --j;
+        if (std::isdigit(static_cast<unsigned char>(s[j])) || s[j] == '.') continue;
+      }
+      return true;
+    }
+  }
+  return false;
+}
+
+bool has_top_level(const std::string& s, char op) {
+  int depth = 0;
+  for (char c : s) {
+    if (c == '(') ++depth;
+    else if (c == ')') --depth;
+    else if (depth == 0 && c == op) return true;
+  }
+  return false;
+}
+
+bool is_number_text(const std::string& s) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '.');
+}
+
+}  // namespace
+
+bool is_zero(const Expr& a) {
+  const std::string s = trim(a);
+  if (s.empty()) return true;
+  if (is_number_text(s)) return std::strtod(s.c_str(), nullptr) == 0.0;
+  return s == "(0)";
+}
+bool is_one(const Expr& a) {
+  const std::string s = trim(a);
+  return is_number_text(s) && std::strtod(s.c_str(), nullptr) == 1.0;
+}
+
+Expr paren(const Expr& a) {
+  const std::string s = trim(a);
+  if (has_top_level_additive(s) || has_top_level(s, '/') || has_top_level(s, '^') ||
+      has_top_level(s, '*'))
+    return "(" + s + ")";
+  return s;
+}
+
+namespace {
+// Paren for a factor of a product: sums and quotients (a*b is fine).
+Expr factor(const Expr& a) {
+  const std::string s = trim(a);
+  if (has_top_level_additive(s) || has_top_level(s, '/')) return "(" + s + ")";
+  return s;
+}
+}  // namespace
+
+Expr add(const Expr& a, const Expr& b) {
+  if (is_zero(a)) return is_zero(b) ? "0" : trim(b);
+  if (is_zero(b)) return trim(a);
+  const std::string bs = trim(b);
+  if (bs[0] == '-') return trim(a) + " - " + bs.substr(1);
+  return trim(a) + " + " + bs;
+}
+
+Expr neg(const Expr& a) {
+  if (is_zero(a)) return "0";
+  const std::string s = trim(a);
+  if (s[0] == '-' && !has_top_level_additive(s.substr(1))) return trim(s.substr(1));
+  return "-" + factor(s);
+}
+
+Expr sub(const Expr& a, const Expr& b) {
+  if (is_zero(b)) return is_zero(a) ? "0" : trim(a);
+  if (is_zero(a)) return neg(b);
+  const std::string bs = trim(b);
+  if (bs[0] == '-' && !has_top_level_additive(bs.substr(1))) return trim(a) + " + " + bs.substr(1);
+  if (has_top_level_additive(bs)) return trim(a) + " - (" + bs + ")";
+  return trim(a) + " - " + bs;
+}
+
+Expr mul(const Expr& a, const Expr& b) {
+  if (is_zero(a) || is_zero(b)) return "0";
+  if (is_one(a)) return trim(b);
+  if (is_one(b)) return trim(a);
+  std::string as = trim(a), bs = trim(b);
+  bool negative = false;
+  if (as[0] == '-' && !has_top_level_additive(as.substr(1))) { negative = !negative; as = trim(as.substr(1)); }
+  if (bs[0] == '-' && !has_top_level_additive(bs.substr(1))) { negative = !negative; bs = trim(bs.substr(1)); }
+  if (is_one(as)) as.clear();
+  if (is_one(bs)) bs.clear();
+  std::string p;
+  if (as.empty()) p = bs.empty() ? "1" : bs;
+  else if (bs.empty()) p = as;
+  else p = factor(as) + "*" + factor(bs);
+  return negative ? "-" + factor(p) : p;
+}
+
+Expr sum(const std::vector<Expr>& terms) {
+  Expr s = "0";
+  for (const auto& t : terms) s = add(s, t);
+  return s;
+}
+
+Mat3 Mat3::rot_z(const Expr& th) {
+  Mat3 r;
+  if (is_zero(th)) return r;
+  const std::string c = "cos(" + trim(th) + ")", s = "sin(" + trim(th) + ")";
+  r.m[0][0] = c;
+  r.m[0][1] = neg(s);
+  r.m[1][0] = s;
+  r.m[1][1] = c;
+  return r;
+}
+
+Vec3 add(const Vec3& a, const Vec3& b) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = add(a[i], b[i]);
+  return r;
+}
+Vec3 sub(const Vec3& a, const Vec3& b) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = sub(a[i], b[i]);
+  return r;
+}
+Vec3 scale(const Expr& s, const Vec3& a) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = mul(s, a[i]);
+  return r;
+}
+Expr dot(const Vec3& a, const Vec3& b) {
+  return sum({mul(a[0], b[0]), mul(a[1], b[1]), mul(a[2], b[2])});
+}
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  Vec3 r;
+  r[0] = sub(mul(a[1], b[2]), mul(a[2], b[1]));
+  r[1] = sub(mul(a[2], b[0]), mul(a[0], b[2]));
+  r[2] = sub(mul(a[0], b[1]), mul(a[1], b[0]));
+  return r;
+}
+Vec3 apply(const Mat3& A, const Vec3& v) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = sum({mul(A.m[i][0], v[0]), mul(A.m[i][1], v[1]), mul(A.m[i][2], v[2])});
+  return r;
+}
+Vec3 apply_transposed(const Mat3& A, const Vec3& v) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = sum({mul(A.m[0][i], v[0]), mul(A.m[1][i], v[1]), mul(A.m[2][i], v[2])});
+  return r;
+}
+Mat3 multiply(const Mat3& A, const Mat3& B) {
+  Mat3 r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      r.m[i][j] = sum({mul(A.m[i][0], B.m[0][j]), mul(A.m[i][1], B.m[1][j]), mul(A.m[i][2], B.m[2][j])});
+  return r;
+}
+Vec3 column(const Mat3& A, int j) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = A.m[i][j];
+  return r;
+}
+
+Expr Lin::coefficient(const std::string& c) const {
+  for (const auto& [name, e] : coef)
+    if (name == c) return e;
+  return "0";
+}
+
+Expr Lin::text() const {
+  Expr s = "0";
+  for (const auto& [name, e] : coef) s = add(s, mul(e, name + "_d"));
+  return add(s, rest);
+}
+
+Lin add(const Lin& a, const Lin& b) {
+  Lin r = a;
+  for (const auto& [name, e] : b.coef) {
+    bool found = false;
+    for (auto& [n2, e2] : r.coef)
+      if (n2 == name) {
+        e2 = add(e2, e);
+        found = true;
+      }
+    if (!found) r.coef.push_back({name, e});
+  }
+  r.rest = add(a.rest, b.rest);
+  // drop zero coefficients
+  r.coef.erase(std::remove_if(r.coef.begin(), r.coef.end(),
+                              [](const auto& p) { return is_zero(p.second); }),
+               r.coef.end());
+  return r;
+}
+Lin scale(const Expr& s, const Lin& a) {
+  Lin r;
+  if (is_zero(s)) return r;
+  for (const auto& [name, e] : a.coef) {
+    const Expr p = mul(s, e);
+    if (!is_zero(p)) r.coef.push_back({name, p});
+  }
+  r.rest = mul(s, a.rest);
+  return r;
+}
+LinVec3 add(const LinVec3& a, const LinVec3& b) {
+  LinVec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = add(a[i], b[i]);
+  return r;
+}
+LinVec3 cross(const LinVec3& w, const Vec3& b) {
+  LinVec3 r;
+  r[0] = add(scale(b[2], w[1]), scale(neg(b[1]), w[2]));
+  r[1] = add(scale(b[0], w[2]), scale(neg(b[2]), w[0]));
+  r[2] = add(scale(b[1], w[0]), scale(neg(b[0]), w[1]));
+  return r;
+}
+LinVec3 apply(const Mat3& A, const LinVec3& v) {
+  LinVec3 r;
+  for (int i = 0; i < 3; ++i)
+    r[i] = add(add(scale(A.m[i][0], v[0]), scale(A.m[i][1], v[1])), scale(A.m[i][2], v[2]));
+  return r;
+}
+LinVec3 apply_transposed(const Mat3& A, const LinVec3& v) {
+  LinVec3 r;
+  for (int i = 0; i < 3; ++i)
+    r[i] = add(add(scale(A.m[0][i], v[0]), scale(A.m[1][i], v[1])), scale(A.m[2][i], v[2]));
+  return r;
+}
+Lin dot(const Vec3& a, const LinVec3& v) {
+  return add(add(scale(a[0], v[0]), scale(a[1], v[1])), scale(a[2], v[2]));
+}
+Lin velocity_of(const std::string& coordinate) {
+  Lin l;
+  l.coef.push_back({coordinate, "1"});
+  return l;
+}
+
+namespace {
+Vec3 texts(const LinVec3& v) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i) r[i] = v[i].text();
+  return r;
+}
+}  // namespace
+Vec3 velocity_text(const Pose& p) { return p.has_text ? p.v_text : texts(p.v); }
+Vec3 angular_velocity_text(const Pose& p) { return p.has_text ? p.w_text : texts(p.w); }
+Vec3 body_angular_velocity_text(const Pose& p) { return p.has_text ? p.w_body_text : texts(p.w_body); }
+
+const Marker* Body::marker(const std::string& n) const {
+  for (const auto& m : markers)
+    if (m.name == n) return &m;
+  return nullptr;
+}
+
+// ---- registries ----------------------------------------------------------------------------
+
+namespace {
+
+struct Registry {
+  std::map<std::string, std::shared_ptr<const BodyKind>> kinds;
+  std::map<std::string, std::shared_ptr<const JointType>> joints, spatial_joints;
+  std::map<std::string, std::shared_ptr<const ForceType>> forces;
+};
+
+void register_planar(Registry& r);
+
+Registry& registry() {
+  static Registry* r = [] {
+    auto* reg = new Registry;
+    register_planar(*reg);
+    return reg;
+  }();
+  return *r;
+}
+
+std::once_flag spatial_once;
+void ensure_registered() {
+  registry();
+  std::call_once(spatial_once, [] { register_spatial_bodies(); });
+}
+
+}  // namespace
+
+void register_body_kind(std::shared_ptr<const BodyKind> kind) {
+  registry().kinds[kind->name()] = std::move(kind);
+}
+void register_joint_type(std::shared_ptr<const JointType> type) {
+  registry().joints[type->name()] = std::move(type);
+}
+void register_spatial_joint_type(std::shared_ptr<const JointType> type) {
+  registry().spatial_joints[type->name()] = std::move(type);
+}
+void register_force_type(std::shared_ptr<const ForceType> type) {
+  registry().forces[type->name()] = std::move(type);
+}
+
+// ---- default BodyKind / JointType behaviour ------------------------------------------------
+
+void BodyKind::read_inertia(Expander& x, const toml::node* node, Body& b) const {
+  if (!node) x.fail(b.key + ".inertia", "the moment of inertia about the centre of mass (an expression)");
+  b.inertia = Mat3{};
+  b.inertia.m[0][0] = "0";
+  b.inertia.m[1][1] = "0";
+  b.inertia.m[2][2] = x.expression(*node, b.key + ".inertia");
+}
+
+Expr BodyKind::kinetic(const Body& b) const {
+  // ½ m |v_c|² + ½ ω_bᵀ J ω_b, v_c = v + ω × (A c).
+  const Vec3 wb = body_angular_velocity_text(b.pose);
+  std::vector<Expr> lin;
+  auto squares = [&](const Vec3& v) {
+    for (int i = 0; i < 3; ++i)
+      if (!is_zero(v[i])) lin.push_back("(" + v[i] + ")^2");
+  };
+  // v_c = V_o + A (ω_b × c), V_o the velocity of the body frame's origin; and for a body placed
+  // on a parent P, V_o = V_P + A_P u_o (u_o: the origin's velocity relative to P's, in P's
+  // frame, P's rotation included). Rotations keep lengths, so |v_c|² is written as the sum of
+  // the squares of the rotation-free parts and cross terms: no sin² + cos² for the algebra to
+  // miss (the sieve's roller gives the paper's m2 (s² + u²) θ̇², its rotor m0 e² (θ̇ + ω)²).
+  const Vec3 wc = cross(wb, b.com);  // body frame
+  auto cross_term = [&](const Expr& e) {
+    if (!is_zero(e)) lin.push_back(mul("2", paren(e)));
+  };
+  // |ω × r|²: in the plane (ω along z, r in x-y) ω_z² (r_x² + r_y²), the paper's form (and
+  // one whose derivatives the tape orders the same way in every process).
+  auto squares_of_cross = [&](const Vec3& w, const Vec3& r) {
+    if (is_zero(w[0]) && is_zero(w[1]) && is_zero(r[2])) {
+      std::vector<Expr> rr;
+      for (int i = 0; i < 2; ++i)
+        if (!is_zero(r[i])) rr.push_back(paren(r[i]) + "^2");
+      if (!rr.empty() && !is_zero(w[2])) lin.push_back(mul(paren(w[2]) + "^2", paren(sum(rr))));
+    } else {
+      squares(cross(w, r));
+    }
+  };
+  if (b.parent.empty()) {
+    const Vec3 V = velocity_text(b.pose);
+    squares(V);
+    cross_term(dot(V, apply(b.pose.A, wc)));
+  } else {
+    const Pose& P = b.parent_pose;
+    Vec3 rel_v;
+    for (int i = 0; i < 3; ++i) rel_v[i] = b.relative.v[i].text();
+    const Vec3 wP = body_angular_velocity_text(P);
+    const Vec3 uo = add(cross(wP, b.relative.r), rel_v);
+    const Vec3 VP = velocity_text(P);
+    squares(VP);
+    // |u_o|² = |ṙ|² + 2 ṙ·(ω_P × r) + |ω_P × r|² (the sieve's s_d² + u_d² + 2 θ̇ (s u_d − u s_d)
+    // + θ̇² (s² + u²)).
+    squares(rel_v);
+    cross_term(dot(rel_v, cross(wP, b.relative.r)));
+    squares_of_cross(wP, b.relative.r);
+    // 2 V_P·A_P (u_o + A_rel (ω_b × c)) as one term (two terms V_P·A_P u_o + V_P·A (ω_b × c)
+    // meet an ordering tie of the tape compiler: different tapes in different processes).
+    cross_term(dot(VP, apply(P.A, add(uo, apply(b.relative.A, wc)))));
+    cross_term(dot(uo, apply(b.relative.A, wc)));
+  }
+  squares_of_cross(wb, b.com);
+  Expr T = "0";
+  if (!lin.empty()) T = mul(mul("1/2", b.mass), paren(sum(lin)));
+  std::vector<Expr> rot;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (is_zero(b.inertia.m[i][j])) continue;
+      const Expr wi = wb[i], wj = wb[j];
+      if (is_zero(wi) || is_zero(wj)) continue;
+      if (i == j) rot.push_back(mul(b.inertia.m[i][j], "(" + wi + ")^2"));
+      else rot.push_back(mul(b.inertia.m[i][j], mul("(" + wi + ")", "(" + wj + ")")));
+    }
+  if (!rot.empty()) T = add(T, mul("1/2", paren(sum(rot))));
+  return T;
+}
+
+Pose JointType::tree_pose(Expander& x, const Joint& j, Pose&) const {
+  x.fail(j.key + ".coordinates", "a joint of type '" + j.type + "' cannot place a body by coordinates");
+}
+
+// ---- the expander --------------------------------------------------------------------------
+
+struct Expander::Impl {
+  const toml::table* model = nullptr;
+  std::vector<Body> bodies;              // bodies[0] = ground
+  std::vector<Joint> joints;
+  std::vector<Expr> kinetic, potential, dissipation;
+  std::map<std::string, std::vector<Expr>> forces;  // coordinate -> terms
+  std::vector<std::string> force_order;
+  std::set<std::string> names;           // bodies, joints, forces
+  std::string reactions = "joint";       // [model] reactions
+};
+
+namespace {
+
+std::vector<std::pair<std::string, const toml::node*>> file_order(const toml::table& t) {
+  std::vector<std::pair<std::string, const toml::node*>> out;
+  std::vector<std::pair<std::pair<toml::source_index, toml::source_index>, std::size_t>> pos;
+  for (auto&& [k, v] : t) {
+    pos.push_back({{k.source().begin.line, k.source().begin.column}, out.size()});
+    out.push_back({std::string(k.str()), &v});
+  }
+  std::stable_sort(pos.begin(), pos.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::pair<std::string, const toml::node*>> sorted;
+  for (const auto& p : pos) sorted.push_back(out[p.second]);
+  return sorted;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+template <class Map>
+std::vector<std::string> keys_of(const Map& m) {
+  std::vector<std::string> k;
+  for (const auto& [name, v] : m) k.push_back(name);
+  return k;
+}
+
+}  // namespace
+
+Expander::Expander(detail::ModelSource& src, const toml::table& model)
+    : impl_(std::make_shared<Impl>()), src_(src) {
+  impl_->model = &model;
+}
+
+const std::string& Expander::where() const { return src_.where; }
+
+void Expander::fail(const std::string& key, const std::string& what) const {
+  detail::fail(src_.where, key, what);
+}
+
+Expr Expander::expression(const toml::node& node, const std::string& key) const {
+  if (auto s = node.as_string()) {
+    std::string text = s->get();
+    if (trim(text).empty()) fail(key, "an expression, got an empty string");
+    ExprText e{src_.where, key, text};
+    detail::check_expression_size(e);
+    return trim(text);
+  }
+  if (node.is_number()) return format_number(number(node, key));
+  fail(key, "an expression (a string such as \"m*L^2/12\") or a number");
+}
+
+double Expander::number(const toml::node& node, const std::string& key) const {
+  double v;
+  if (auto i = node.as_integer()) v = static_cast<double>(i->get());
+  else if (auto f = node.as_floating_point()) v = f->get();
+  else fail(key, "a number");
+  if (!std::isfinite(v)) fail(key, "a finite number, got " + format_number(v));
+  return v;
+}
+
+Vec3 Expander::vector(const toml::node& node, const std::string& key, bool planar) const {
+  const toml::array* a = node.as_array();
+  const std::size_t want = planar ? 2 : 3;
+  if (!a || !(a->size() == want || (planar && a->size() == 3)))
+    fail(key, std::string("a list of ") + (planar ? "2 expressions [x, y]" : "3 expressions [x, y, z]"));
+  Vec3 v;
+  for (std::size_t i = 0; i < a->size(); ++i)
+    v[static_cast<int>(i)] = expression(*a->get(i), key);
+  if (planar && a->size() == 3 && !is_zero(v[2]))
+    fail(key, "a planar vector [x, y] (its z component must be 0), got z = " + v[2]);
+  return v;
+}
+
+std::string Expander::string(const toml::node& node, const std::string& key, const std::string& what) const {
+  if (auto s = node.as_string()) return s->get();
+  fail(key, what);
+}
+
+bool Expander::boolean(const toml::node& node, const std::string& key) const {
+  if (auto b = node.as_boolean()) return b->get();
+  fail(key, "a boolean (true or false)");
+}
+
+Expr Expander::optional(const toml::table& t, const std::string& table_key, const std::string& name) const {
+  if (auto n = t.get(name)) return expression(*n, table_key + "." + name);
+  return "";
+}
+
+Expr Expander::required(const toml::table& t, const std::string& table_key, const std::string& name,
+                        const std::string& what) const {
+  if (auto n = t.get(name)) return expression(*n, table_key + "." + name);
+  fail(table_key + "." + name, what);
+}
+
+const Body& Expander::body(const std::string& name, const std::string& key) const {
+  for (const auto& b : impl_->bodies)
+    if (b.name == name) return b;
+  std::vector<std::string> names;
+  for (const auto& b : impl_->bodies) names.push_back(b.name);
+  fail(key, "the name of a body (declared: " + join(names) + "), got '" + name + "'");
+}
+
+const Marker& Expander::marker(const Body& b, const std::string& name, const std::string& key) const {
+  if (const Marker* m = b.marker(name)) return *m;
+  std::vector<std::string> names;
+  for (const auto& m : b.markers) names.push_back(m.name);
+  fail(key, "a marker of body '" + b.name + "' (declared: " + join(names) + "), got '" + name + "'");
+}
+
+Vec3 Expander::marker_position(const Body& b, const Marker& m) const {
+  return add(b.pose.r, apply(b.pose.A, m.p));
+}
+Mat3 Expander::marker_axes(const Body& b, const Marker& m) const { return multiply(b.pose.A, m.R); }
+LinVec3 Expander::marker_velocity(const Body& b, const Marker& m) const {
+  return add(b.pose.v, cross(b.pose.w, apply(b.pose.A, m.p)));
+}
+LinVec3 Expander::point_velocity(const Body& b, const Vec3& P) const {
+  return add(b.pose.v, cross(b.pose.w, sub(P, b.pose.r)));
+}
+Expr Expander::planar_angle(const Body& b) const {
+  // A = Rz(th): th is what rot_z was given; recover it from the sin entry.
+  const std::string& s = b.pose.A.m[1][0];
+  if (is_zero(s)) return "0";
+  return s.substr(4, s.size() - 5);  // "sin(th)"
+}
+
+std::string Expander::define(const std::string& name, const Expr& value, const std::string& key) {
+  src_.definitions.push_back({name, ExprText{src_.where, key, value}});
+  return name;
+}
+
+void Expander::add_coordinate(const std::string& name, const std::string& key) {
+  if (std::find(src_.coordinates.begin(), src_.coordinates.end(), name) != src_.coordinates.end())
+    return;  // declared in [model] coordinates (fixes the order)
+  if (!detail::is_identifier(name) || detail::is_reserved_name(name))
+    fail(key, "a coordinate name (letters, digits and '_', not reserved), got '" + name + "'");
+  src_.coordinates.push_back(name);
+}
+
+void Expander::add_kinetic(const Expr& e) { if (!is_zero(e)) impl_->kinetic.push_back(e); }
+void Expander::add_potential(const Expr& e) { if (!is_zero(e)) impl_->potential.push_back(e); }
+void Expander::add_dissipation(const Expr& e) { if (!is_zero(e)) impl_->dissipation.push_back(e); }
+
+void Expander::add_power(const Lin& v, const Expr& f, const std::string& key) {
+  (void)key;
+  if (is_zero(f)) return;
+  for (const auto& [c, coef] : v.coef) {
+    const Expr term = mul(coef, f);
+    if (is_zero(term)) continue;
+    if (!impl_->forces.count(c)) impl_->force_order.push_back(c);
+    impl_->forces[c].push_back(term);
+  }
+}
+
+void Expander::add_constraint(const Row& row, const std::string& key) {
+  detail::SourceConstraint sc;
+  sc.spec.name = row.name;
+  sc.key = key;
+  sc.spec.active_by_default = row.active;
+  sc.spec.from_initial = row.from_initial;
+  if (!row.velocity_form) {
+    sc.spec.kind = mech::ConstraintKind::holonomic;
+    sc.holonomic = ExprText{src_.where, key, row.holonomic};
+    sc.spec.holonomic = row.holonomic;
+  } else {
+    sc.spec.kind = mech::ConstraintKind::velocity;
+    for (const auto& [c, coef] : row.velocity.coef) {
+      auto it = std::find(src_.coordinates.begin(), src_.coordinates.end(), c);
+      const int i = static_cast<int>(it - src_.coordinates.begin());
+      sc.velocity.push_back({i, ExprText{src_.where, key, coef}});
+      sc.spec.velocity.push_back({c, coef});
+    }
+    if (sc.velocity.empty()) fail(key, "a velocity row that involves a coordinate (this joint's row is 0)");
+    sc.velocity0 = ExprText{src_.where, key, is_zero(row.velocity.rest) ? "" : row.velocity.rest};
+    sc.spec.velocity0 = sc.velocity0.text;
+  }
+  sc.spec.unilateral = row.unilateral;
+  sc.spec.gap_sign = row.gap_sign;
+  sc.restitution = ExprText{src_.where, key + ".restitution", row.restitution};
+  sc.spec.restitution = row.restitution;
+  sc.mu_static = ExprText{src_.where, key + ".mu_static", row.mu_static};
+  sc.spec.mu_static = row.mu_static;
+  sc.mu_kinetic = ExprText{src_.where, key + ".mu_kinetic", row.mu_kinetic};
+  sc.spec.mu_kinetic = row.mu_kinetic;
+  sc.spec.friction = row.friction;
+  src_.constraints.push_back(std::move(sc));
+}
+
+void Expander::add_output(const std::string& name, const Expr& e, const std::string& key) {
+  src_.outputs.push_back({name, ExprText{src_.where, key, e}});
+}
+
+bool has_body_form(const toml::table& model) {
+  return model.get("body") || model.get("joint") || model.get("force");
+}
+
+const std::vector<std::string>& body_form_keys() {
+  static const std::vector<std::string> k{"body", "joint", "force", "reactions"};
+  return k;
+}
+
+// ---- the planar kinds, joints and forces ---------------------------------------------------
+
+namespace {
+
+class PlanarBody : public BodyKind {
+ public:
+  std::string name() const override { return "planar"; }
+  bool planar() const override { return true; }
+  std::vector<std::string> coordinates(const Body& b) const override {
+    return {b.name + "_x", b.name + "_y", b.name + "_th"};
+  }
+  Pose free_pose(const Body& b) const override {
+    Pose p;
+    p.r[0] = b.coordinates[0];
+    p.r[1] = b.coordinates[1];
+    p.A = Mat3::rot_z(b.coordinates[2]);
+    p.v[0] = velocity_of(b.coordinates[0]);
+    p.v[1] = velocity_of(b.coordinates[1]);
+    p.w[2] = velocity_of(b.coordinates[2]);
+    p.w_body[2] = p.w[2];
+    return p;
+  }
+};
+
+class PlanarParticle : public BodyKind {
+ public:
+  std::string name() const override { return "particle"; }
+  bool planar() const override { return true; }
+  void read_inertia(Expander& x, const toml::node* node, Body& b) const override {
+    if (node) x.fail(b.key + ".inertia", "no inertia for a particle (a point mass)");
+    b.inertia = Mat3{};
+    for (int i = 0; i < 3; ++i) b.inertia.m[i][i] = "0";
+  }
+  std::vector<std::string> coordinates(const Body& b) const override {
+    return {b.name + "_x", b.name + "_y"};
+  }
+  Pose free_pose(const Body& b) const override {
+    Pose p;
+    p.r[0] = b.coordinates[0];
+    p.r[1] = b.coordinates[1];
+    p.v[0] = velocity_of(b.coordinates[0]);
+    p.v[1] = velocity_of(b.coordinates[1]);
+    return p;
+  }
+};
+
+// The planar relative transform of a tree joint: body2's marker2 frame = marker1's frame
+// translated by (tx, ty) (marker1 axes) and turned by phi. Each of tx, ty, phi is a coordinate,
+// a prescribed motion f(t) with its rate, or 0.
+struct PlanarDof {
+  Expr value = "0";
+  Lin rate;  // its time derivative, linear in the velocities
+};
+
+Pose planar_tree_pose(Expander& x, const Joint& j, const PlanarDof& tx, const PlanarDof& ty,
+                      const PlanarDof& phi, Pose& rel) {
+  const Body& b1 = x.body(j.body1, j.key + ".body1");
+  const Body& b2 = x.body(j.body2, j.key + ".body2");
+  const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
+  const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
+  if (!x.body(j.body1, j.key).ground && b1.kind != "planar" && b1.kind != "particle")
+    x.fail(j.key + ".body1", "a planar body or ground for a planar tree joint");
+  Pose p;
+  const Expr a1 = x.planar_angle(b1);
+  const Expr am1 = m1.R.m[1][0].empty() || is_zero(m1.R.m[1][0]) ? "0" : m1.R.m[1][0].substr(4, m1.R.m[1][0].size() - 5);
+  const Expr am2 = m2.R.m[1][0].empty() || is_zero(m2.R.m[1][0]) ? "0" : m2.R.m[1][0].substr(4, m2.R.m[1][0].size() - 5);
+  // th2 = th1 + am1 + phi - am2
+  Expr th2 = sub(add(add(a1, am1), phi.value), am2);
+  // position of marker2 origin: r1 + A1 (p1 + R(am1) t)
+  Vec3 t;
+  t[0] = tx.value;
+  t[1] = ty.value;
+  const Mat3 Rm1 = Mat3::rot_z(am1);
+  const Vec3 local = add(m1.p, apply(Rm1, t));
+  const Vec3 rm2 = add(b1.pose.r, apply(b1.pose.A, local));
+  // define the angle and position of body2 (readable expansion, shared on the tape)
+  const std::string key = j.key;
+  Expr th_name = "0";
+  if (!is_zero(th2)) th_name = x.define(b2.name + "_th", th2, key);
+  const Mat3 A2 = Mat3::rot_z(th_name);
+  const Vec3 r2v = sub(rm2, apply(A2, m2.p));
+  // Defined for outputs and drawings, but the equations use the texts: the tape compiler orders
+  // derivatives of alike position definitions (x + sin(theta)*y0 + ..., x + sin(theta)*s + ...)
+  // differently from process to process (a tie of its structural order).
+  x.define(b2.name + "_x", r2v[0], key);
+  x.define(b2.name + "_y", r2v[1], key);
+  p.r[0] = r2v[0];
+  p.r[1] = r2v[1];
+  p.A = A2;
+  // velocities: w2 = w1 + phi_d; v_m2 = v1 + w1 × (A1 local) + A1 Rm1 ṫ; v2 = v_m2 - w2 × (A2 p2)
+  p.w = b1.pose.w;
+  p.w[2] = add(p.w[2], phi.rate);
+  p.w_body = p.w;
+  LinVec3 tdot;
+  tdot[0] = tx.rate;
+  tdot[1] = ty.rate;
+  const LinVec3 vm2 = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, local))),
+                          apply(b1.pose.A, apply(Rm1, tdot)));
+  p.v = add(vm2, cross(p.w, scale("-1", apply(A2, m2.p))));
+  // The same velocities as short texts on the parent's (definitions): for the energy.
+  {
+    const Vec3 v1 = velocity_text(b1.pose), w1 = angular_velocity_text(b1.pose);
+    Vec3 w2;
+    w2[2] = add(w1[2], phi.rate.text());
+    Vec3 tdt;
+    tdt[0] = tx.rate.text();
+    tdt[1] = ty.rate.text();
+    const Vec3 vm2t = add(add(v1, cross(w1, apply(b1.pose.A, local))), apply(b1.pose.A, apply(Rm1, tdt)));
+    const Vec3 v2 = add(vm2t, cross(w2, scale("-1", apply(A2, m2.p))));
+    p.has_text = true;
+    const char* ax[3] = {"x", "y", "z"};
+    for (int i = 0; i < 2; ++i) {
+      const Expr e = v2[i];
+      p.v_text[i] = (is_zero(e) || !has_top_level_additive(e)) ? e : x.define(b2.name + "_v" + ax[i], e, key);
+    }
+    p.w_text[2] = (is_zero(w2[2]) || !has_top_level_additive(w2[2])) ? w2[2] : x.define(b2.name + "_w", w2[2], key);
+    p.w_body_text = p.w_text;
+  }
+  // relative to body1: r = local - R(th_rel) p2, A = R(th_rel), rates in body1 components
+  const Expr th_rel = sub(add(am1, phi.value), am2);
+  rel.A = Mat3::rot_z(th_rel);
+  rel.r = sub(local, apply(rel.A, m2.p));
+  rel.w[2] = phi.rate;
+  rel.w_body = rel.w;
+  rel.v = add(apply(Rm1, tdot), cross(rel.w, scale("-1", apply(rel.A, m2.p))));
+  return p;
+}
+
+
+// d/dt of an expression of t and the parameters (a prescribed motion), by GiNaC, printed back
+// in the model-file language.
+Expr time_derivative(Expander& x, const Expr& f, const std::string& key) {
+  std::lock_guard<std::mutex> lock(detail::ginac_mutex());
+  detail::ExpressionParser p;
+  const GiNaC::realsymbol t("t");
+  p.define("t", t);
+  for (const auto& par : x.source().parameters) p.define(par.name, GiNaC::realsymbol(par.name));
+  p.add_hint({"", "", "a prescribed motion may use t, the parameters and numbers only"});
+  const GiNaC::ex e = p.parse(ExprText{x.where(), key, f});
+  std::ostringstream os;
+  os << e.diff(t);
+  return os.str();
+}
+
+// Degree of freedom `index` of a tree joint: its coordinate, or its prescribed motion.
+PlanarDof tree_dof(Expander& x, const Joint& j, std::size_t index) {
+  PlanarDof d;
+  if (index < j.coordinates.size()) {
+    const std::string& c = j.coordinates[index];
+    if (c.empty()) return d;  // fixed at 0
+    d.value = c;
+    d.rate = velocity_of(c);
+    return d;
+  }
+  if (const toml::node* m = j.table->get("motion")) {
+    const toml::array* a = m->as_array();
+    if (!a || index >= a->size()) return d;
+    const std::string key = j.key + ".motion";
+    d.value = x.expression(*a->get(index), key);
+    d.rate.rest = time_derivative(x, d.value, key);
+  }
+  return d;
+}
+
+class PlanarRevolute : public JointType {
+ public:
+  std::string name() const override { return "revolute"; }
+  std::vector<std::string> extra_keys() const override { return {"frame", "motion"}; }
+  int tree_coordinates(bool) const override { return 1; }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    return planar_tree_pose(x, j, PlanarDof{}, PlanarDof{}, tree_dof(x, j, 0), rel);
+  }
+  void rows(Expander& x, Joint& j) const override {
+    const Body& b1 = x.body(j.body1, j.key + ".body1");
+    const Body& b2 = x.body(j.body2, j.key + ".body2");
+    const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
+    const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
+    const Vec3 d = sub(x.marker_position(b2, m2), x.marker_position(b1, m1));
+    Mat3 E = x.marker_axes(b1, m1);
+    if (auto f = j.table->get("frame")) {
+      const std::string fr = x.string(*f, j.key + ".frame", "\"marker1\" or \"ground\"");
+      if (fr == "ground") E = Mat3{};
+      else if (fr != "marker1") x.fail(j.key + ".frame", "\"marker1\" (default) or \"ground\", got '" + fr + "'");
+    }
+    const char* axis[2] = {"x", "y"};
+    for (int i = 0; i < 2; ++i) {
+      Row r;
+      r.name = j.name + "_" + axis[i];
+      r.holonomic = dot(column(E, i), d);
+      j.rows.push_back(r);
+      j.force[i] = "lambda_" + r.name;
+    }
+    j.moment[2] = "0";
+    j.has_reaction = true;
+  }
+};
+
+// The relative angle of two planar bodies' markers: (th2 + a_m2) - (th1 + a_m1).
+Expr relative_angle(Expander& x, const Body& b1, const Marker& m1, const Body& b2, const Marker& m2) {
+  auto marker_angle = [](const Marker& m) -> Expr {
+    const std::string& s = m.R.m[1][0];
+    return is_zero(s) ? "0" : s.substr(4, s.size() - 5);
+  };
+  return sub(add(x.planar_angle(b2), marker_angle(m2)), add(x.planar_angle(b1), marker_angle(m1)));
+}
+
+Lin relative_rate(const Body& b1, const Body& b2) {
+  return add(b2.pose.w[2], scale("-1", b1.pose.w[2]));
+}
+
+class PlanarPrismatic : public JointType {
+ public:
+  std::string name() const override { return "prismatic"; }
+  std::vector<std::string> extra_keys() const override { return {"motion"}; }
+  int tree_coordinates(bool) const override { return 1; }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    return planar_tree_pose(x, j, tree_dof(x, j, 0), PlanarDof{}, PlanarDof{}, rel);
+  }
+  void rows(Expander& x, Joint& j) const override {
+    const Body& b1 = x.body(j.body1, j.key + ".body1");
+    const Body& b2 = x.body(j.body2, j.key + ".body2");
+    const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
+    const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
+    const Vec3 d = sub(x.marker_position(b2, m2), x.marker_position(b1, m1));
+    const Mat3 E = x.marker_axes(b1, m1);
+    Row ry;
+    ry.name = j.name + "_y";
+    ry.holonomic = dot(column(E, 1), d);
+    j.rows.push_back(ry);
+    j.force[1] = "lambda_" + ry.name;
+    if (b2.kind != "particle") {
+      Row rr;
+      rr.name = j.name + "_rot";
+      rr.holonomic = relative_angle(x, b1, m1, b2, m2);
+      if (is_zero(rr.holonomic)) x.fail(j.key, "a joint whose rotation row involves a coordinate");
+      j.rows.push_back(rr);
+      j.moment[2] = "lambda_" + rr.name;
+    }
+    j.has_reaction = true;
+  }
+};
+
+class PlanarFixed : public JointType {
+ public:
+  std::string name() const override { return "fixed"; }
+  void rows(Expander& x, Joint& j) const override {
+    PlanarRevolute().rows(x, j);
+    const Body& b1 = x.body(j.body1, j.key + ".body1");
+    const Body& b2 = x.body(j.body2, j.key + ".body2");
+    Row rr;
+    rr.name = j.name + "_rot";
+    rr.holonomic = relative_angle(x, b1, x.marker(b1, j.marker1, j.key), b2, x.marker(b2, j.marker2, j.key));
+    j.rows.push_back(rr);
+    j.moment[2] = "lambda_" + rr.name;
+  }
+  std::vector<std::string> extra_keys() const override { return {"frame"}; }
+};
+
+// A free planar relative placement (x, y, angle in marker1's frame): the sieve's s, u, phi.
+class PlanarPlanar : public JointType {
+ public:
+  std::string name() const override { return "planar"; }
+  std::vector<std::string> extra_keys() const override { return {"motion"}; }
+  int tree_coordinates(bool) const override { return 3; }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    return planar_tree_pose(x, j, tree_dof(x, j, 0), tree_dof(x, j, 1), tree_dof(x, j, 2), rel);
+  }
+  void rows(Expander& x, Joint& j) const override {
+    x.fail(j.key + ".coordinates", "a planar joint places its second body by 3 coordinates "
+                                   "[x, y, angle] (it generates no constraint rows)");
+  }
+};
+
+class Distance : public JointType {
+ public:
+  std::string name() const override { return "distance"; }
+  std::vector<std::string> extra_keys() const override { return {"length"}; }
+  void rows(Expander& x, Joint& j) const override {
+    const Body& b1 = x.body(j.body1, j.key + ".body1");
+    const Body& b2 = x.body(j.body2, j.key + ".body2");
+    const Vec3 d = sub(x.marker_position(b2, x.marker(b2, j.marker2, j.key + ".marker2")),
+                       x.marker_position(b1, x.marker(b1, j.marker1, j.key + ".marker1")));
+    const Expr L = x.required(*j.table, j.key, "length", "the distance between the markers (an expression)");
+    Row r;
+    r.name = j.name;
+    std::vector<Expr> sq;
+    for (int i = 0; i < 3; ++i)
+      if (!is_zero(d[i])) sq.push_back(paren(d[i]) + "^2");
+    r.holonomic = sub(sum(sq), paren(L) + "^2");
+    j.rows.push_back(r);
+    // Φ = |d|² − L²: the force on body2 is 2λ d, along the rod (x of the joint frame).
+    j.force[0] = "2*lambda_" + r.name + "*sqrt(" + sum(sq) + ")";
+    j.has_reaction = true;
+  }
+};
+
+class PointOnLine : public JointType {
+ public:
+  std::string name() const override { return "point_on_line"; }
+  void rows(Expander& x, Joint& j) const override {
+    const Body& b1 = x.body(j.body1, j.key + ".body1");
+    const Body& b2 = x.body(j.body2, j.key + ".body2");
+    const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
+    const Vec3 d = sub(x.marker_position(b2, x.marker(b2, j.marker2, j.key + ".marker2")),
+                       x.marker_position(b1, m1));
+    Row r;
+    r.name = j.name;
+    r.holonomic = dot(column(x.marker_axes(b1, m1), 1), d);
+    j.rows.push_back(r);
+    j.force[1] = "lambda_" + r.name;
+    j.has_reaction = true;
+  }
+};
+
+class Drive : public JointType {
+ public:
+  std::string name() const override { return "drive"; }
+  std::vector<std::string> extra_keys() const override { return {"joint", "coordinate", "motion"}; }
+  void rows(Expander& x, Joint& j) const override;
+};
+
+class Gear : public JointType {
+ public:
+  std::string name() const override { return "gear"; }
+  std::vector<std::string> extra_keys() const override { return {"joint1", "joint2", "ratio"}; }
+  void rows(Expander& x, Joint& j) const override;
+};
+
+class Rolling : public JointType {
+ public:
+  std::string name() const override { return "rolling"; }
+  std::vector<std::string> extra_keys() const override { return {"radius", "form", "row_names"}; }
+  void rows(Expander& x, Joint& j) const override;
+};
+
+void Drive::rows(Expander& x, Joint& j) const {
+  const toml::table& t = *j.table;
+  const Expr f = x.required(t, j.key, "motion", "the prescribed motion f(t) of the coordinate (an expression of t and the parameters)");
+  std::string coordinate;
+  int index = 0;
+  std::string type;
+  if (auto jn = t.get("joint")) {
+    const Joint& tj = x.joint(x.string(*jn, j.key + ".joint", "the name of a joint"), j.key + ".joint");
+    if (tj.coordinates.empty())
+      x.fail(j.key + ".joint", "a joint that places its body by coordinates (coordinates = [...]), got '" + tj.name + "'");
+    type = tj.type;
+    if (auto c = t.get("coordinate")) {
+      coordinate = x.string(*c, j.key + ".coordinate", "one of the joint's coordinates");
+      auto it = std::find(tj.coordinates.begin(), tj.coordinates.end(), coordinate);
+      if (it == tj.coordinates.end())
+        x.fail(j.key + ".coordinate", "one of the joint's coordinates (" + join(tj.coordinates) + "), got '" + coordinate + "'");
+      index = static_cast<int>(it - tj.coordinates.begin());
+    } else {
+      coordinate = tj.coordinates[0];
+    }
+  } else if (auto c = t.get("coordinate")) {
+    coordinate = x.string(*c, j.key + ".coordinate", "a coordinate name");
+    const auto& cs = x.source().coordinates;
+    if (std::find(cs.begin(), cs.end(), coordinate) == cs.end())
+      x.fail(j.key + ".coordinate", "a coordinate (one of: " + join(cs) + "), got '" + coordinate + "'");
+  } else {
+    x.fail(j.key + ".joint", "the joint whose coordinate the drive prescribes (or coordinate = \"NAME\")");
+  }
+  Row r;
+  r.name = j.name;
+  r.holonomic = sub(coordinate, f);
+  j.rows.push_back(r);
+  const std::string l = "lambda_" + r.name;
+  if (type == "revolute") j.moment[2] = l;
+  else if (type == "prismatic") j.force[0] = l;
+  else if (type == "planar") {
+    if (index < 2) j.force[index] = l;
+    else j.moment[2] = l;
+  } else {
+    j.force[0] = l;  // the generalized force on the coordinate
+  }
+  j.has_reaction = true;
+}
+
+void Gear::rows(Expander& x, Joint& j) const {
+  const toml::table& t = *j.table;
+  auto coordinate_of = [&](const char* k) {
+    const toml::node* n = t.get(k);
+    if (!n) x.fail(j.key + "." + k, "a revolute or prismatic joint that places its body by a coordinate");
+    const Joint& tj = x.joint(x.string(*n, j.key + "." + k, "the name of a joint"), j.key + "." + k);
+    if (tj.coordinates.size() != 1)
+      x.fail(j.key + "." + k, "a joint with one coordinate (revolute or prismatic, coordinates = [\"NAME\"]), got '" + tj.name + "'");
+    return tj.coordinates[0];
+  };
+  const std::string c1 = coordinate_of("joint1"), c2 = coordinate_of("joint2");
+  const Expr ratio = x.required(t, j.key, "ratio", "the ratio: coordinate2 = ratio * coordinate1 (+ its initial offset)");
+  Row r;
+  r.name = j.name;
+  r.holonomic = sub(c2, mul(ratio, c1));
+  r.from_initial = true;
+  j.rows.push_back(r);
+  j.moment[2] = "lambda_" + r.name;  // the torque (or force) on joint2's coordinate
+  j.has_reaction = true;
+}
+
+void Rolling::rows(Expander& x, Joint& j) const {
+  const toml::table& t = *j.table;
+  const Body& b1 = x.body(j.body1, j.key + ".body1");
+  const Body& b2 = x.body(j.body2, j.key + ".body2");
+  const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
+  const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
+  if (!x.kind(b2).planar() || !(b1.ground || x.kind(b1).planar()))
+    x.fail(j.key, "planar bodies (a wheel rolling on a line); spatial rolling is a spatial joint");
+  const Expr r = x.required(t, j.key, "radius", "the wheel's radius (an expression)");
+  std::string form = "velocity";
+  if (auto f = t.get("form")) {
+    form = x.string(*f, j.key + ".form", "\"velocity\" or \"holonomic\"");
+    if (form != "velocity" && form != "holonomic")
+      x.fail(j.key + ".form", "\"velocity\" (default: the paper's velocity form) or \"holonomic\" (s + r phi fixed at the initial state), got '" + form + "'");
+  }
+  std::string contact_name = j.name + "_contact", rolling_name = j.name + "_rolling";
+  if (auto rn = t.get("row_names")) {
+    const toml::table* rt = rn->as_table();
+    if (!rt) x.fail(j.key + ".row_names", "a table { contact = \"NAME\", rolling = \"NAME\" }");
+    for (auto&& [k, v] : *rt) {
+      const std::string kk(k.str());
+      const std::string key = j.key + ".row_names." + kk;
+      const std::string name = x.string(v, key, "a constraint name");
+      if (kk == "contact") contact_name = name;
+      else if (kk == "rolling") rolling_name = name;
+      else x.fail(key, "unknown key (expected one of: contact, rolling)");
+    }
+  }
+  const Vec3 tb = column(m1.R, 0), nb = column(m1.R, 1);  // line axes, body1 frame
+  Row contact, roll;
+  contact.name = contact_name;
+  roll.name = rolling_name;
+  const bool child = b2.parent == b1.name && !b1.name.empty();
+  if (child) {
+    // In body1's frame, from the tree joint's relative coordinates (no rotation of body1 enters).
+    const Vec3 c = add(b2.relative.r, apply(b2.relative.A, m2.p));
+    const Vec3 d = sub(c, m1.p);
+    contact.holonomic = sub(dot(nb, d), r);
+    if (form == "holonomic") {
+      const Expr th_rel = b2.relative.A.m[1][0];
+      const Expr ang = is_zero(th_rel) ? "0" : th_rel.substr(4, th_rel.size() - 5);
+      roll.holonomic = add(dot(tb, d), mul(r, paren(ang)));
+      roll.from_initial = true;
+    } else {
+      const LinVec3 vc = add(b2.relative.v, cross(b2.relative.w, apply(b2.relative.A, m2.p)));
+      const LinVec3 vp = add(vc, cross(b2.relative.w, scale(neg(r), nb)));
+      roll.velocity = dot(tb, vp);
+      roll.velocity_form = true;
+    }
+  } else {
+    if (form == "holonomic")
+      x.fail(j.key + ".form", "\"velocity\": the holonomic form needs the wheel placed on the line's body by a planar joint (its relative coordinates)");
+    const Mat3 E = x.marker_axes(b1, m1);
+    const Vec3 n = column(E, 1), tg = column(E, 0);
+    const Vec3 C = x.marker_position(b2, m2);
+    contact.holonomic = sub(dot(n, sub(C, x.marker_position(b1, m1))), r);
+    const Vec3 P = sub(C, scale(r, n));
+    const LinVec3 v2 = add(x.marker_velocity(b2, m2), cross(b2.pose.w, scale(neg(r), n)));
+    const LinVec3 v1 = x.point_velocity(b1, P);
+    LinVec3 rel;
+    for (int i = 0; i < 3; ++i) rel[i] = add(v2[i], scale("-1", v1[i]));
+    roll.velocity = dot(tg, rel);
+    roll.velocity_form = true;
+  }
+  if (auto u = t.get("unilateral")) contact.unilateral = x.boolean(*u, j.key + ".unilateral");
+  contact.restitution = x.optional(t, j.key, "restitution");
+  if (!contact.restitution.empty() && !contact.unilateral)
+    x.fail(j.key + ".restitution", "restitution only with unilateral = true");
+  roll.mu_static = x.optional(t, j.key, "mu_static");
+  roll.mu_kinetic = x.optional(t, j.key, "mu_kinetic");
+  if (!roll.mu_static.empty()) {
+    if (!contact.unilateral) x.fail(j.key + ".mu_static", "friction (mu_static) only with unilateral = true");
+    roll.friction = contact.name;
+  } else if (!roll.mu_kinetic.empty()) {
+    x.fail(j.key + ".mu_kinetic", "mu_kinetic only with mu_static");
+  }
+  j.rows.push_back(contact);
+  j.rows.push_back(roll);
+  j.force[0] = "lambda_" + roll.name;
+  j.force[1] = "lambda_" + contact.name;
+  j.moment[2] = mul(r, "lambda_" + roll.name);
+  j.has_reaction = true;
+}
+
+// ---- forces --------------------------------------------------------------------------------
+
+// Every body with mass.
+class Gravity : public ForceType {
+ public:
+  std::string name() const override { return "gravity"; }
+  std::vector<std::string> keys() const override { return {"g"}; }
+  void apply(Expander& x, const std::string&, const std::string& key, const toml::table& t) const override;
+};
+
+class SpringDamper : public ForceType {
+ public:
+  std::string name() const override { return "spring_damper"; }
+  std::vector<std::string> keys() const override {
+    return {"body1", "marker1", "body2", "marker2", "stiffness", "length", "damping"};
+  }
+  void apply(Expander& x, const std::string&, const std::string& key, const toml::table& t) const override {
+    const Body& b1 = x.body(t.get("body1") ? x.string(*t.get("body1"), key + ".body1", "a body name") : "ground", key + ".body1");
+    const Body& b2 = x.body(t.get("body2") ? x.string(*t.get("body2"), key + ".body2", "a body name") : "", key + ".body2");
+    const Marker& m1 = x.marker(b1, t.get("marker1") ? x.string(*t.get("marker1"), key + ".marker1", "a marker name") : "origin", key + ".marker1");
+    const Marker& m2 = x.marker(b2, t.get("marker2") ? x.string(*t.get("marker2"), key + ".marker2", "a marker name") : "origin", key + ".marker2");
+    const Vec3 d = sub(x.marker_position(b2, m2), x.marker_position(b1, m1));
+    const LinVec3 v2 = x.marker_velocity(b2, m2), v1 = x.marker_velocity(b1, m1);
+    LinVec3 dv;
+    for (int i = 0; i < 3; ++i) dv[i] = add(v2[i], scale("-1", v1[i]));
+    std::vector<Expr> sq;
+    for (int i = 0; i < 3; ++i)
+      if (!is_zero(d[i])) sq.push_back(paren(d[i]) + "^2");
+    const Expr len = "sqrt(" + sum(sq) + ")";
+    const Expr k = x.optional(t, key, "stiffness"), L0 = x.optional(t, key, "length"),
+               c = x.optional(t, key, "damping");
+    if (k.empty() && c.empty()) x.fail(key + ".stiffness", "a stiffness or a damping (expressions)");
+    if (!k.empty()) x.add_potential(mul(mul("1/2", k), "(" + sub(len, L0.empty() ? "0" : L0) + ")^2"));
+    if (!c.empty()) {
+      const Expr rate = "(" + dot(d, dv).text() + ")/" + paren(len);
+      x.add_dissipation(mul(mul("1/2", c), "(" + rate + ")^2"));
+    }
+  }
+};
+
+// Linear springs and dampers along the axes of marker1's frame (and about z), between marker1
+// and marker2: V = ½ Σ k_i (d·e_i − rest_i)², F = ½ Σ c_i ((v2 − v1)·e_i)².
+class Bushing : public ForceType {
+ public:
+  std::string name() const override { return "bushing"; }
+  std::vector<std::string> keys() const override {
+    return {"body1", "marker1", "body2", "marker2", "stiffness", "rest", "damping",
+            "rotational_stiffness", "rotational_rest", "rotational_damping"};
+  }
+  void apply(Expander& x, const std::string&, const std::string& key, const toml::table& t) const override {
+    const Body& b1 = x.body(t.get("body1") ? x.string(*t.get("body1"), key + ".body1", "a body name") : "ground", key + ".body1");
+    const Body& b2 = x.body(t.get("body2") ? x.string(*t.get("body2"), key + ".body2", "a body name") : "", key + ".body2");
+    const Marker& m1 = x.marker(b1, t.get("marker1") ? x.string(*t.get("marker1"), key + ".marker1", "a marker name") : "origin", key + ".marker1");
+    const Marker& m2 = x.marker(b2, t.get("marker2") ? x.string(*t.get("marker2"), key + ".marker2", "a marker name") : "origin", key + ".marker2");
+    const bool planar = x.kind(b2).planar();
+    const Mat3 E = x.marker_axes(b1, m1);
+    const Vec3 d = sub(x.marker_position(b2, m2), x.marker_position(b1, m1));
+    const LinVec3 v2 = x.marker_velocity(b2, m2), v1 = x.marker_velocity(b1, m1);
+    LinVec3 dv;
+    for (int i = 0; i < 3; ++i) dv[i] = add(v2[i], scale("-1", v1[i]));
+    Vec3 k, rest, c;
+    if (auto n = t.get("stiffness")) k = x.vector(*n, key + ".stiffness", planar);
+    if (auto n = t.get("rest")) rest = x.vector(*n, key + ".rest", planar);
+    if (auto n = t.get("damping")) c = x.vector(*n, key + ".damping", planar);
+    for (int i = 0; i < (planar ? 2 : 3); ++i) {
+      const Expr di = dot(column(E, i), d);
+      if (!is_zero(k[i])) x.add_potential(mul(mul("1/2", k[i]), "(" + sub(di, rest[i]) + ")^2"));
+      if (!is_zero(c[i])) x.add_dissipation(mul(mul("1/2", c[i]), "(" + dot(column(E, i), dv).text() + ")^2"));
+    }
+    const Expr kr = x.optional(t, key, "rotational_stiffness"), rr = x.optional(t, key, "rotational_rest"),
+               cr = x.optional(t, key, "rotational_damping");
+    if (!planar && (!kr.empty() || !cr.empty()))
+      x.fail(key + ".rotational_stiffness", "rotational terms of a bushing between planar bodies (spatial: a spatial bushing)");
+    if (!kr.empty()) x.add_potential(mul(mul("1/2", kr), "(" + sub(relative_angle(x, b1, m1, b2, m2), rr.empty() ? "0" : rr) + ")^2"));
+    if (!cr.empty()) x.add_dissipation(mul(mul("1/2", cr), "(" + relative_rate(b1, b2).text() + ")^2"));
+  }
+};
+
+// A spring-damper on a joint's coordinate (rotational on a revolute joint, linear on a
+// prismatic one), or on the relative angle of a revolute constraint joint.
+class JointSpringDamper : public ForceType {
+ public:
+  explicit JointSpringDamper(std::string n) : name_(std::move(n)) {}
+  std::string name() const override { return name_; }
+  std::vector<std::string> keys() const override { return {"joint", "coordinate", "stiffness", "rest", "damping"}; }
+  void apply(Expander& x, const std::string&, const std::string& key, const toml::table& t) const override {
+    const toml::node* jn = t.get("joint");
+    if (!jn) x.fail(key + ".joint", "the joint the spring-damper acts on");
+    const Joint& j = x.joint(x.string(*jn, key + ".joint", "a joint name"), key + ".joint");
+    Expr q;
+    Lin rate;
+    if (!j.coordinates.empty()) {
+      std::string c = j.coordinates[0];
+      if (auto cn = t.get("coordinate")) {
+        c = x.string(*cn, key + ".coordinate", "one of the joint's coordinates");
+        if (std::find(j.coordinates.begin(), j.coordinates.end(), c) == j.coordinates.end())
+          x.fail(key + ".coordinate", "one of the joint's coordinates (" + join(j.coordinates) + "), got '" + c + "'");
+      }
+      q = c;
+      rate = velocity_of(c);
+    } else if (j.type == "revolute") {
+      const Body& b1 = x.body(j.body1, key);
+      const Body& b2 = x.body(j.body2, key);
+      q = relative_angle(x, b1, x.marker(b1, j.marker1, key), b2, x.marker(b2, j.marker2, key));
+      rate = relative_rate(b1, b2);
+    } else {
+      x.fail(key + ".joint", "a joint with coordinates, or a revolute joint, got '" + j.name + "' (" + j.type + ")");
+    }
+    const Expr k = x.optional(t, key, "stiffness"), r = x.optional(t, key, "rest"), c = x.optional(t, key, "damping");
+    if (k.empty() && c.empty()) x.fail(key + ".stiffness", "a stiffness or a damping (expressions)");
+    if (!k.empty()) x.add_potential(mul(mul("1/2", k), "(" + sub(q, r.empty() ? "0" : r) + ")^2"));
+    if (!c.empty()) x.add_dissipation(mul(mul("1/2", c), "(" + rate.text() + ")^2"));
+  }
+
+ private:
+  std::string name_;
+};
+
+// An applied force on a marker (ground or marker axes) or a torque on a body.
+class AppliedForce : public ForceType {
+ public:
+  std::string name() const override { return "force"; }
+  std::vector<std::string> keys() const override { return {"body", "marker", "force", "frame"}; }
+  void apply(Expander& x, const std::string&, const std::string& key, const toml::table& t) const override {
+    const toml::node* bn = t.get("body");
+    if (!bn) x.fail(key + ".body", "the body the force acts on");
+    const Body& b = x.body(x.string(*bn, key + ".body", "a body name"), key + ".body");
+    const Marker& m = x.marker(b, t.get("marker") ? x.string(*t.get("marker"), key + ".marker", "a marker name") : "origin", key + ".marker");
+    const toml::node* fn = t.get("force");
+    if (!fn) x.fail(key + ".force", "the force vector [fx, fy] (expressions of t, q, q_d, parameters)");
+    Vec3 f = x.vector(*fn, key + ".force", x.kind(b).planar());
+    std::string frame = "ground";
+    if (auto fr = t.get("frame")) frame = x.string(*fr, key + ".frame", "\"ground\" or \"marker\"");
+    if (frame == "marker") f = ::pcsim::modelfile::bodies::apply(x.marker_axes(b, m), f);
+    else if (frame != "ground") x.fail(key + ".frame", "\"ground\" (default) or \"marker\", got '" + frame + "'");
+    const LinVec3 v = x.marker_velocity(b, m);
+    for (int i = 0; i < 3; ++i) x.add_power(v[i], f[i], key);
+  }
+};
+
+class AppliedTorque : public ForceType {
+ public:
+  std::string name() const override { return "torque"; }
+  std::vector<std::string> keys() const override { return {"body", "torque"}; }
+  void apply(Expander& x, const std::string&, const std::string& key, const toml::table& t) const override {
+    const toml::node* bn = t.get("body");
+    if (!bn) x.fail(key + ".body", "the body the torque acts on");
+    const Body& b = x.body(x.string(*bn, key + ".body", "a body name"), key + ".body");
+    const toml::node* tn = t.get("torque");
+    if (!tn) x.fail(key + ".torque", "the torque (an expression; a vector [tx, ty, tz] for a spatial body)");
+    if (x.kind(b).planar()) {
+      x.add_power(b.pose.w[2], x.expression(*tn, key + ".torque"), key);
+    } else {
+      const Vec3 tq = x.vector(*tn, key + ".torque", false);
+      for (int i = 0; i < 3; ++i) x.add_power(b.pose.w[i], tq[i], key);
+    }
+  }
+};
+
+void register_planar(Registry& r) {
+  auto kind = [&](std::shared_ptr<const BodyKind> k) { r.kinds[k->name()] = std::move(k); };
+  auto joint = [&](std::shared_ptr<const JointType> j) { r.joints[j->name()] = std::move(j); };
+  auto force = [&](std::shared_ptr<const ForceType> f) { r.forces[f->name()] = std::move(f); };
+  kind(std::make_shared<PlanarBody>());
+  kind(std::make_shared<PlanarParticle>());
+  joint(std::make_shared<PlanarRevolute>());
+  joint(std::make_shared<PlanarPrismatic>());
+  joint(std::make_shared<PlanarFixed>());
+  joint(std::make_shared<PlanarPlanar>());
+  joint(std::make_shared<Distance>());
+  joint(std::make_shared<PointOnLine>());
+  joint(std::make_shared<Drive>());
+  joint(std::make_shared<Gear>());
+  joint(std::make_shared<Rolling>());
+  force(std::make_shared<Gravity>());
+  force(std::make_shared<SpringDamper>());
+  force(std::make_shared<Bushing>());
+  force(std::make_shared<JointSpringDamper>("joint_spring_damper"));
+  force(std::make_shared<JointSpringDamper>("rotational_spring_damper"));
+  force(std::make_shared<AppliedForce>());
+  force(std::make_shared<AppliedTorque>());
+}
+
+}  // namespace
+
+namespace {
+
+void Gravity::apply(Expander& x, const std::string&, const std::string& key, const toml::table& t) const {
+  const toml::node* gn = t.get("g");
+  if (!gn) x.fail(key + ".g", "the gravity vector [gx, gy] (or [gx, gy, gz]), e.g. [0, \"-g\"]");
+  bool all_planar = true;
+  for (const Body& b : x.bodies())
+    if (!b.ground && !x.kind(b).planar()) all_planar = false;
+  const Vec3 g = x.vector(*gn, key + ".g", all_planar);
+  for (const Body& b : x.bodies()) {
+    if (b.ground) continue;
+    const Vec3 c = add(b.pose.r, bodies::apply(b.pose.A, b.com));
+    x.add_potential(mul(b.mass, paren(neg(dot(g, c)))));
+  }
+}
+
+}  // namespace
+
+const std::vector<Body>& Expander::bodies() const { return impl_->bodies; }
+
+const BodyKind& Expander::kind(const Body& b) const {
+  const auto& kinds = registry().kinds;
+  auto it = kinds.find(b.ground ? std::string("planar") : b.kind);
+  return *it->second;
+}
+
+const Joint& Expander::joint(const std::string& name, const std::string& key) const {
+  for (const auto& j : impl_->joints)
+    if (j.name == name) return j;
+  std::vector<std::string> names;
+  for (const auto& j : impl_->joints) names.push_back(j.name);
+  fail(key, "the name of a joint (declared: " + join(names) + "), got '" + name + "'");
+}
+
+namespace {
+
+// A numeric value of an expression of the parameters at their defaults (NaN if it uses
+// anything else), for the checks of mass and inertia.
+double default_value(Expander& x, const Expr& e, const std::string& key) {
+  std::lock_guard<std::mutex> lock(detail::ginac_mutex());
+  detail::ExpressionParser p;
+  for (const auto& par : x.source().parameters) p.define(par.name, GiNaC::numeric(par.value));
+  // definitions of parameters only: substitute when they parse
+  for (int pass = 0; pass < 3; ++pass)
+    for (const auto& [name, text] : x.source().definitions) {
+      if (p.knows(name)) continue;
+      try {
+        const GiNaC::ex v = GiNaC::evalf(p.parse(text));
+        if (GiNaC::is_a<GiNaC::numeric>(v)) p.define(name, v);
+      } catch (...) {
+      }
+    }
+  try {
+    const GiNaC::ex v = GiNaC::evalf(p.parse(ExprText{x.where(), key, e}));
+    if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real())
+      return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+  } catch (const InputError&) {
+  }
+  return std::nan("");
+}
+
+Marker read_marker(Expander& x, const Body& b, bool planar, const std::string& name,
+                   const toml::node& node, const std::string& key) {
+  Marker m;
+  m.name = name;
+  m.key = key;
+  // Ground's markers serve planar and spatial bodies: [x, y] or [x, y, z] (BODIES-SPATIAL).
+  auto position_planar = [&](const toml::node& n) {
+    const toml::array* a = n.as_array();
+    return b.ground ? !(a && a->size() == 3) : planar;
+  };
+  if (node.is_array()) {
+    m.p = x.vector(node, key, position_planar(node));
+    return m;
+  }
+  const toml::table* t = node.as_table();
+  if (!t) x.fail(key, "a position [x, y] in the body frame, or { at = [x, y], angle = \"...\" }");
+  for (auto&& [k, v] : *t) {
+    const std::string kk(k.str());
+    if (kk != "at" && kk != "angle" && kk != "axis")
+      x.fail(key + "." + kk, "unknown key (expected one of: at, angle, axis)");
+  }
+  if (auto at = t->get("at")) m.p = x.vector(*at, key + ".at", position_planar(*at));
+  if (t->get("axis") || (!planar && !b.ground)) {
+    m.R = spatial_marker_axes(x, *t, key);  // bodies_spatial.cpp: turned by angle about axis
+  } else if (auto a = t->get("angle")) {
+    m.R = Mat3::rot_z(x.expression(*a, key + ".angle"));
+  }
+  return m;
+}
+
+}  // namespace
+
+void Expander::run() {
+  ensure_registered();
+  Impl& I = *impl_;
+  const toml::table& model = *I.model;
+  const std::string pre = src_.prefix.empty() ? "" : src_.prefix + ".";
+  const auto& reg = registry();
+
+  if (auto r = model.get("reactions")) {
+    I.reactions = string(*r, pre + "reactions", "\"joint\", \"ground\" or \"none\"");
+    if (I.reactions != "joint" && I.reactions != "ground" && I.reactions != "none")
+      fail(pre + "reactions", "\"joint\" (default: each joint's reaction in its own frame), \"ground\" or \"none\", got '" + I.reactions + "'");
+  }
+
+  // Ground.
+  {
+    Body g;
+    g.name = "ground";
+    g.ground = true;
+    g.kind = "planar";
+    g.key = pre + "body.ground";
+    g.markers.push_back(Marker{"origin", Vec3{}, Mat3{}, g.key});
+    I.bodies.push_back(g);
+  }
+  auto declare = [&](const std::string& name, const std::string& key, const std::string& what) {
+    if (!detail::is_identifier(name) || detail::is_reserved_name(name))
+      fail(key, "a name of letters, digits and '_' not starting with a digit (not reserved), got '" + name + "'");
+    if (!I.names.insert(name).second)
+      fail(key, "the name '" + name + "' is already used by a body, joint or force (" + what + " names are unique)");
+  };
+  I.names.insert("ground");
+
+  // Bodies.
+  if (auto bn = model.get("body")) {
+    const toml::table* bt = bn->as_table();
+    if (!bt) fail(pre + "body", "tables [model.body.NAME]");
+    for (const auto& [name, node] : file_order(*bt)) {
+      const std::string key = pre + "body." + name;
+      const toml::table* t = node->as_table();
+      if (!t) fail(key, "a table [" + key + "] (mass, com, inertia, markers, ...)");
+      if (name == "ground") {
+        for (auto&& [k, v] : *t)
+          if (k.str() != "markers") fail(key + "." + std::string(k.str()), "unknown key (ground has only: markers)");
+        if (auto mk = t->get("markers")) {
+          const toml::table* mt = mk->as_table();
+          if (!mt) fail(key + ".markers", "a table of markers: NAME = [x, y]");
+          for (const auto& [mname, mnode] : file_order(*mt)) {
+            if (!detail::is_identifier(mname)) fail(key + ".markers." + mname, "a marker name (an identifier)");
+            if (mname == "origin") fail(key + ".markers.origin", "'origin' is every body's frame origin (implicit)");
+            I.bodies[0].markers.push_back(read_marker(*this, I.bodies[0], true, mname, *mnode, key + ".markers." + mname));
+          }
+        }
+        continue;
+      }
+      declare(name, key, "body");
+      Body b;
+      b.name = name;
+      b.key = key;
+      b.kind = "planar";
+      if (auto k = t->get("kind")) b.kind = string(*k, key + ".kind", "a body kind");
+      auto kit = reg.kinds.find(b.kind);
+      if (kit == reg.kinds.end()) fail(key + ".kind", "a body kind (one of: " + join(keys_of(reg.kinds)) + "), got '" + b.kind + "'");
+      const BodyKind& kind = *kit->second;
+      std::vector<std::string> allowed{"kind", "mass", "com", "inertia", "markers", "shape", "coordinates"};
+      for (const auto& e : kind.extra_keys()) allowed.push_back(e);
+      for (auto&& [k, v] : *t) {
+        const std::string kk(k.str());
+        if (std::find(allowed.begin(), allowed.end(), kk) == allowed.end())
+          fail(key + "." + kk, "unknown key (expected one of: " + join(allowed) + ")");
+      }
+      const toml::node* mass = t->get("mass");
+      if (!mass) fail(key + ".mass", "the body's mass (an expression > 0; a massless body leaves the mass matrix singular)");
+      b.mass = expression(*mass, key + ".mass");
+      const double mv = default_value(*this, b.mass, key + ".mass");
+      if (!(mv > 0.0) && !std::isnan(mv))
+        fail(key + ".mass", "a mass > 0 (a massless body leaves the mass matrix singular), got " + b.mass + " = " + format_number(mv));
+      if (auto c = t->get("com")) b.com = vector(*c, key + ".com", kind.planar());
+      kind.read_inertia(*this, t->get("inertia"), b);
+      if (kind.planar() && b.kind == "planar") {
+        const double jv = default_value(*this, b.inertia.m[2][2], key + ".inertia");
+        if (!(jv > 0.0) && !std::isnan(jv))
+          fail(key + ".inertia", "a moment of inertia > 0 about the centre of mass (0 or less leaves the mass matrix singular or indefinite; a point mass is kind = \"particle\"), got " + b.inertia.m[2][2] + " = " + format_number(jv));
+      }
+      b.markers.push_back(Marker{"origin", Vec3{}, Mat3{}, key});
+      if (auto mk = t->get("markers")) {
+        const toml::table* mt = mk->as_table();
+        if (!mt) fail(key + ".markers", "a table of markers: NAME = [x, y] or { at = [x, y], angle = ... }");
+        for (const auto& [mname, mnode] : file_order(*mt)) {
+          const std::string mkey = key + ".markers." + mname;
+          if (!detail::is_identifier(mname)) fail(mkey, "a marker name (an identifier)");
+          if (mname == "origin") fail(mkey, "'origin' is every body's frame origin (implicit)");
+          b.markers.push_back(read_marker(*this, b, kind.planar(), mname, *mnode, mkey));
+        }
+      }
+      if (auto sh = t->get("shape")) {
+        const toml::table* st = sh->as_table();
+        if (!st) fail(key + ".shape", "a table { type = \"rod\" | \"box\" | \"circle\", ... }");
+        for (auto&& [k, v] : *st) {
+          const std::string kk(k.str());
+          if (kk != "type" && kk != "from" && kk != "to" && kk != "width" && kk != "height" && kk != "radius" && kk != "fill")
+            fail(key + ".shape." + kk, "unknown key (expected one of: type, from, to, width, height, radius, fill)");
+        }
+        const toml::node* ty = st->get("type");
+        if (!ty) fail(key + ".shape.type", "\"rod\", \"box\" or \"circle\"");
+        b.shape.type = string(*ty, key + ".shape.type", "\"rod\", \"box\" or \"circle\"");
+        if (b.shape.type != "rod" && b.shape.type != "box" && b.shape.type != "circle")
+          fail(key + ".shape.type", "\"rod\", \"box\" or \"circle\", got '" + b.shape.type + "'");
+        if (auto f = st->get("from")) b.shape.from = string(*f, key + ".shape.from", "a marker name");
+        if (auto f = st->get("to")) b.shape.to = string(*f, key + ".shape.to", "a marker name");
+        for (const std::string& mn : {b.shape.from, b.shape.to})
+          if (!mn.empty()) marker(b, mn, key + ".shape");
+        if (b.shape.type == "rod" && (b.shape.from.empty() || b.shape.to.empty()))
+          fail(key + ".shape", "a rod from one marker to another: from = \"A\", to = \"B\"");
+        b.shape.width = optional(*st, key + ".shape", "width");
+        b.shape.height = optional(*st, key + ".shape", "height");
+        b.shape.radius = optional(*st, key + ".shape", "radius");
+        if (auto f = st->get("fill")) b.shape.fill = string(*f, key + ".shape.fill", "a colour \"#rrggbb\"");
+      }
+      if (auto cs = t->get("coordinates")) {
+        const toml::array* a = cs->as_array();
+        const std::size_t want = kind.coordinates(b).size();
+        if (!a || a->size() != want)
+          fail(key + ".coordinates", "a list of " + std::to_string(want) + " coordinate names (" + join(kind.coordinates(b)) + " by default)");
+        for (const auto& c : *a) b.coordinates.push_back(string(c, key + ".coordinates", "coordinate names (strings)"));
+      }
+      I.bodies.push_back(std::move(b));
+    }
+  }
+
+  // Joints (read; tree joints mark their second body).
+  if (auto jn = model.get("joint")) {
+    const toml::table* jt = jn->as_table();
+    if (!jt) fail(pre + "joint", "tables [model.joint.NAME]");
+    for (const auto& [name, node] : file_order(*jt)) {
+      const std::string key = pre + "joint." + name;
+      const toml::table* t = node->as_table();
+      if (!t) fail(key, "a table [" + key + "] (type, body1, marker1, body2, marker2, ...)");
+      declare(name, key, "joint");
+      Joint j;
+      j.name = name;
+      j.key = key;
+      j.table = t;
+      const toml::node* ty = t->get("type");
+      if (!ty) fail(key + ".type", "the joint's type (one of: " + join(keys_of(reg.joints)) + ")");
+      j.type = string(*ty, key + ".type", "a joint type");
+      auto it = reg.joints.find(j.type);
+      auto sit = reg.spatial_joints.find(j.type);
+      if (it == reg.joints.end() && sit == reg.spatial_joints.end()) {
+        std::set<std::string> all;
+        for (const auto& k : keys_of(reg.joints)) all.insert(k);
+        for (const auto& k : keys_of(reg.spatial_joints)) all.insert(k);
+        fail(key + ".type", "a joint type (one of: " + join(std::vector<std::string>(all.begin(), all.end())) + "), got '" + j.type + "'");
+      }
+      const JointType& type = it != reg.joints.end() ? *it->second : *sit->second;
+      std::vector<std::string> allowed{"type", "body1", "marker1", "body2", "marker2", "coordinates",
+                                       "unilateral", "restitution", "mu_static", "mu_kinetic"};
+      for (const auto& e : type.extra_keys()) allowed.push_back(e);
+      if (sit != reg.spatial_joints.end())
+        for (const auto& e : sit->second->extra_keys()) allowed.push_back(e);
+      for (auto&& [k, v] : *t) {
+        const std::string kk(k.str());
+        if (std::find(allowed.begin(), allowed.end(), kk) == allowed.end())
+          fail(key + "." + kk, "unknown key (expected one of: " + join(allowed) + ")");
+      }
+      const bool needs_bodies = j.type != "drive" && j.type != "gear";
+      j.body1 = "ground";
+      if (auto b = t->get("body1")) j.body1 = string(*b, key + ".body1", "a body name");
+      if (auto m = t->get("marker1")) j.marker1 = string(*m, key + ".marker1", "a marker name");
+      if (auto b = t->get("body2")) j.body2 = string(*b, key + ".body2", "a body name");
+      else if (needs_bodies) fail(key + ".body2", "the joint's second body (the one its reaction acts on)");
+      if (auto m = t->get("marker2")) j.marker2 = string(*m, key + ".marker2", "a marker name");
+      if (j.marker1.empty()) j.marker1 = "origin";
+      if (j.marker2.empty()) j.marker2 = "origin";
+      if (needs_bodies) {
+        const Body& b1 = body(j.body1, key + ".body1");
+        const Body& b2 = body(j.body2, key + ".body2");
+        if (b1.name == b2.name) fail(key + ".body2", "a body other than body1 (a joint between '" + b1.name + "' and itself constrains nothing)");
+        if (b2.ground) fail(key + ".body2", "a moving body (write the ground as body1)");
+        marker(b1, j.marker1, key + ".marker1");
+        marker(b2, j.marker2, key + ".marker2");
+        j.planar = kind(b1).planar() && kind(b2).planar();
+        j.axes = marker_axes(b1, *b1.marker(j.marker1));  // refined after the poses
+      }
+      if (auto cs = t->get("coordinates")) {
+        const toml::array* a = cs->as_array();
+        const int want = type.tree_coordinates(true);
+        if (want == 0) fail(key + ".coordinates", "a joint of type '" + j.type + "' generates constraint rows; it cannot place its body by coordinates");
+        if (!a || static_cast<int>(a->size()) != want)
+          fail(key + ".coordinates", "a list of " + std::to_string(want) + " coordinate name(s) for a " + j.type + " joint (the coordinates of " + j.body2 + " relative to " + j.body1 + ")");
+        for (const auto& c : *a) j.coordinates.push_back(string(c, key + ".coordinates", "coordinate names"));
+      } else if (t->get("motion") && type.tree_coordinates(true) > 0) {
+        const toml::array* a = t->get("motion")->as_array();
+        const int want = type.tree_coordinates(true);
+        if (!a || static_cast<int>(a->size()) != want)
+          fail(key + ".motion", "a list of " + std::to_string(want) + " expression(s) of t (the prescribed joint motion)");
+      }
+      I.joints.push_back(std::move(j));
+    }
+  }
+  // Tree joints: coordinates or a prescribed motion place body2 relative to body1.
+  std::map<std::string, int> parent_joint;  // body -> joint index
+  for (std::size_t k = 0; k < I.joints.size(); ++k) {
+    Joint& j = I.joints[k];
+    const bool tree = !j.coordinates.empty() ||
+                      (j.table->get("motion") && reg.joints.count(j.type) &&
+                       reg.joints.at(j.type)->tree_coordinates(true) > 0);
+    if (!tree) continue;
+    if (parent_joint.count(j.body2))
+      fail(j.key + ".coordinates", "one joint that places '" + j.body2 + "' by coordinates; '" +
+                                       I.joints[static_cast<std::size_t>(parent_joint[j.body2])].name + "' already does");
+    parent_joint[j.body2] = static_cast<int>(k);
+  }
+  for (auto& b : I.bodies)
+    if (parent_joint.count(b.name)) {
+      b.parent_joint = I.joints[static_cast<std::size_t>(parent_joint[b.name])].name;
+      b.parent = I.joints[static_cast<std::size_t>(parent_joint[b.name])].body1;
+      if (!b.coordinates.empty())
+        fail(b.key + ".coordinates", "no coordinates of its own: the joint '" + b.parent_joint + "' places it");
+    }
+
+  // Poses, in file order, parents first; coordinates in that order.
+  std::vector<int> state(I.bodies.size(), 0);  // 0 new, 1 in progress, 2 done
+  std::function<void(std::size_t)> place = [&](std::size_t i) {
+    if (state[i] == 2) return;
+    Body& b = I.bodies[i];
+    if (state[i] == 1) fail(b.key, "an assembly without a loop of joints that place bodies by coordinates ('" + b.name + "' is placed, through its parents, relative to itself)");
+    state[i] = 1;
+    if (b.ground) {
+      b.pose.r = Vec3{};
+      b.pose.A = Mat3{};
+    } else if (b.parent_joint.empty()) {
+      const BodyKind& k = kind(b);
+      if (b.coordinates.empty()) b.coordinates = k.coordinates(b);
+      for (const auto& c : b.coordinates) add_coordinate(c, b.key + ".coordinates");
+      b.pose = k.free_pose(b);
+      k.own_constraints(*this, b);
+    } else {
+      const Joint& j = joint(b.parent_joint, b.key);
+      for (std::size_t p = 0; p < I.bodies.size(); ++p)
+        if (I.bodies[p].name == j.body1) place(p);
+      if (!kind(I.bodies[i]).planar() || !(I.bodies[0].name == j.body1 || kind(body(j.body1, j.key)).planar())) {
+        auto sit = reg.spatial_joints.find(j.type);
+        if (sit == reg.spatial_joints.end()) fail(j.key + ".type", "a joint type for spatial bodies ('" + j.type + "' is planar here)");
+      }
+      for (const auto& c : j.coordinates) add_coordinate(c, j.key + ".coordinates");
+      I.bodies[i].coordinates = j.coordinates;
+      Pose rel;
+      const bool spatial = !kind(I.bodies[i]).planar();
+      const JointType& type = spatial ? *reg.spatial_joints.at(j.type) : *reg.joints.at(j.type);
+      Pose p = type.tree_pose(*this, j, rel);
+      I.bodies[i].pose = p;
+      I.bodies[i].relative = rel;
+      I.bodies[i].parent_pose = body(j.body1, j.key).pose;
+    }
+    state[i] = 2;
+  };
+  for (std::size_t i = 0; i < I.bodies.size(); ++i) place(i);
+
+  // Kinetic energy.
+  for (const Body& b : I.bodies)
+    if (!b.ground) add_kinetic(kind(b).kinetic(b));
+
+  // Constraint joints.
+  for (Joint& j : I.joints) {
+    if (!j.coordinates.empty() || body(j.body2.empty() ? "ground" : j.body2, j.key).parent_joint == j.name) continue;
+    const bool spatial = !j.planar;
+    auto it = reg.joints.find(j.type);
+    auto sit = reg.spatial_joints.find(j.type);
+    const JointType* type = nullptr;
+    if (spatial && sit != reg.spatial_joints.end()) type = sit->second.get();
+    else if (it != reg.joints.end()) type = it->second.get();
+    else type = sit->second.get();
+    if (j.type != "drive" && j.type != "gear") {
+      const Body& b1 = body(j.body1, j.key);
+      j.axes = marker_axes(b1, *b1.marker(j.marker1));
+      if (j.type == "revolute" || j.type == "fixed")
+        if (auto f = j.table->get("frame"); f && f->value_or(std::string()) == "ground") j.axes = Mat3{};
+      if (j.type == "distance") {
+        const Body& b2 = body(j.body2, j.key);
+        const Vec3 d = sub(marker_position(b2, *b2.marker(j.marker2)), marker_position(b1, *b1.marker(j.marker1)));
+        std::vector<Expr> sq;
+        for (int i = 0; i < 3; ++i)
+          if (!is_zero(d[i])) sq.push_back(paren(d[i]) + "^2");
+        const Expr len = "sqrt(" + sum(sq) + ")";
+        Mat3 E;
+        for (int i = 0; i < 3; ++i) E.m[i][0] = is_zero(d[i]) ? "0" : paren(d[i]) + "/" + len;
+        E.m[0][1] = neg(E.m[1][0]);
+        E.m[1][1] = E.m[0][0];
+        E.m[2][1] = "0";
+        j.axes = E;
+      }
+    } else {
+      j.axes = Mat3{};
+    }
+    type->rows(*this, j);
+    for (const Row& r : j.rows) add_constraint(r, j.key);
+  }
+
+  // Forces.
+  if (auto fn = model.get("force")) {
+    const toml::table* ft = fn->as_table();
+    if (!ft) fail(pre + "force", "tables [model.force.NAME]");
+    for (const auto& [name, node] : file_order(*ft)) {
+      const std::string key = pre + "force." + name;
+      const toml::table* t = node->as_table();
+      if (!t) fail(key, "a table [" + key + "] (type, ...)");
+      declare(name, key, "force");
+      const toml::node* ty = t->get("type");
+      if (!ty) fail(key + ".type", "the force's type (one of: " + join(keys_of(reg.forces)) + ")");
+      const std::string type = string(*ty, key + ".type", "a force type");
+      auto it = reg.forces.find(type);
+      if (it == reg.forces.end()) fail(key + ".type", "a force type (one of: " + join(keys_of(reg.forces)) + "), got '" + type + "'");
+      std::vector<std::string> allowed{"type"};
+      for (const auto& k : it->second->keys()) allowed.push_back(k);
+      for (auto&& [k, v] : *t) {
+        const std::string kk(k.str());
+        if (std::find(allowed.begin(), allowed.end(), kk) == allowed.end())
+          fail(key + "." + kk, "unknown key (expected one of: " + join(allowed) + ")");
+      }
+      it->second->apply(*this, name, key, *t);
+    }
+  }
+
+  // Marker positions and velocities as definitions: <body>_<marker>_x, _y (, _z), _vx, ...
+  for (const Body& b : I.bodies) {
+    if (b.ground) continue;
+    const bool planar = kind(b).planar();
+    for (const Marker& m : b.markers) {
+      if (m.name == "origin") continue;
+      const Vec3 P = marker_position(b, m);
+      const Vec3 V = add(velocity_text(b.pose), cross(angular_velocity_text(b.pose), apply(b.pose.A, m.p)));
+      const char* ax[3] = {"x", "y", "z"};
+      for (int i = 0; i < (planar ? 2 : 3); ++i) {
+        define(b.name + "_" + m.name + "_" + ax[i], P[i], m.key);
+        define(b.name + "_" + m.name + "_v" + ax[i], V[i], m.key);
+      }
+    }
+  }
+
+  // The energy form.
+  const std::string bkey = pre + "body";
+  src_.kinetic = ExprText{src_.where, bkey, sum(I.kinetic)};
+  src_.potential = ExprText{src_.where, bkey, sum(I.potential)};
+  src_.dissipation = ExprText{src_.where, bkey, sum(I.dissipation)};
+  if (is_zero(src_.potential.text)) src_.potential.text.clear();
+  if (is_zero(src_.dissipation.text)) src_.dissipation.text.clear();
+  for (const auto& c : I.force_order) {
+    const int i = static_cast<int>(std::find(src_.coordinates.begin(), src_.coordinates.end(), c) - src_.coordinates.begin());
+    src_.forces.push_back({i, ExprText{src_.where, pre + "force", sum(I.forces[c])}});
+  }
+}
+
+void Expander::finish() {
+  Impl& I = *impl_;
+  // A default drawing from the bodies' shapes, when the model has no [model.draw].
+  bool any_shape = false;
+  for (const Body& b : I.bodies) any_shape = any_shape || !b.shape.type.empty();
+  if (any_shape && !I.model->get("draw")) {
+    bool planar = true;
+    for (const Body& b : I.bodies)
+      if (!b.ground && !kind(b).planar()) planar = false;
+    toml::table draw;
+    draw.insert("view", planar ? "2d" : "3d");
+    toml::array points, lines, polygons, circles;
+    auto point_table = [&](const Vec3& P) {
+      toml::table t;
+      t.insert("x", P[0]);
+      t.insert("y", P[1]);
+      if (!planar) t.insert("z", P[2]);
+      return t;
+    };
+    for (const Body& b : I.bodies) {
+      if (b.shape.type.empty()) continue;
+      const Shape& sh = b.shape;
+      toml::table style;
+      if (sh.type == "rod") {
+        toml::array pts;
+        pts.push_back(point_table(marker_position(b, *b.marker(sh.from))));
+        pts.push_back(point_table(marker_position(b, *b.marker(sh.to))));
+        toml::table line;
+        line.insert("points", pts);
+        lines.push_back(line);
+      } else if (sh.type == "box") {
+        const Expr w = mul("1/2", sh.width.empty() ? "0" : sh.width), h = mul("1/2", sh.height.empty() ? "0" : sh.height);
+        toml::array pts;
+        for (const auto& [sx, sy] : std::vector<std::pair<int, int>>{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+          Vec3 c;
+          c[0] = sx < 0 ? neg(w) : w;
+          c[1] = sy < 0 ? neg(h) : h;
+          pts.push_back(point_table(add(b.pose.r, bodies::apply(b.pose.A, c))));
+        }
+        toml::table poly;
+        poly.insert("points", pts);
+        if (!sh.fill.empty()) poly.insert("fill", sh.fill);
+        polygons.push_back(poly);
+      } else if (sh.type == "circle") {
+        toml::table circle;
+        circle.insert("centre", point_table(b.pose.r));
+        circle.insert("radius", sh.radius.empty() ? "0" : sh.radius);
+        if (!sh.fill.empty()) circle.insert("fill", sh.fill);
+        circles.push_back(circle);
+      }
+    }
+    if (!lines.empty()) draw.insert("line", lines);
+    if (!polygons.empty()) draw.insert("polygon", polygons);
+    if (!circles.empty()) draw.insert("circle", circles);
+    detail::read_draw_table(draw, src_);
+  }
+  if (I.reactions == "none") return;
+  for (const Joint& j : I.joints) {
+    if (!j.has_reaction) continue;
+    const std::string key = j.key;
+    Vec3 F = j.force, M = j.moment;
+    if (I.reactions == "ground") {
+      F = bodies::apply(j.axes, F);
+      M = bodies::apply(j.axes, M);
+    }
+    // Each component is a definition <joint>_Fx (usable in the user's outputs) and a column
+    // F_<joint>_x.
+    const char* ax[3] = {"x", "y", "z"};
+    for (int i = 0; i < 3; ++i) {
+      if (j.planar && i == 2) continue;
+      const std::string d = define(j.name + "_F" + ax[i], F[i].empty() ? "0" : F[i], key);
+      add_output("F_" + j.name + "_" + ax[i], d, key);
+    }
+    for (int i = 0; i < 3; ++i) {
+      if (j.planar && i < 2) continue;
+      const std::string d = define(j.name + "_M" + ax[i], M[i].empty() ? "0" : M[i], key);
+      add_output("M_" + j.name + "_" + ax[i], d, key);
+    }
+  }
+}
+
+}  // namespace pcsim::modelfile::bodies

@@ -1,0 +1,484 @@
+// Spatial bodies (Euler parameters) and spatial joints for the body form (bodies.hpp;
+// docs/bodies-spatial.md). A spatial body NAME has the coordinates NAME_x, NAME_y, NAME_z (its
+// frame origin in ground) and NAME_e0..e3 (Euler parameters, |e| = 1 as the row NAME_norm); its
+// rotation matrix entries are the definitions NAME_a11..a33, its angular velocity is linear in
+// the rates: ω' = 2 G(e) ė (body axes), ω = 2 E(e) ė (ground axes), and its kinetic energy
+// carries the regularization ½ k (e·ė)² (k = 4 trace(J)/3), which makes M positive definite and
+// changes neither q̈ nor R on the manifold (proof in docs/bodies-spatial.md).
+//
+// Joints between bodies of which at least one is spatial write their rows in the joint frame
+// (marker1's axes u1, v1, w1 on body1; d = P2 − P1 the vector between the markers), so the
+// multiplier of a force row is that component of the force on body2, and the moment on body2
+// (about marker2) is returned in the joint frame too.
+#include <array>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "common/format.hpp"
+#include "modelfile/bodies.hpp"
+
+namespace pcsim::modelfile::bodies {
+
+namespace {
+
+std::string e_name(const Body& b, int i) { return b.name + "_e" + std::to_string(i); }
+
+// G(e) (body rates) or E(e) (ground rates) entry (row r, column c) as a signed coordinate name.
+Expr rate_entry(const Body& b, bool ground, int r, int c) {
+  // index of e and sign, per row, per column
+  static const int Gi[3][4] = {{1, 0, 3, 2}, {2, 3, 0, 1}, {3, 2, 1, 0}};
+  static const int Gs[3][4] = {{-1, 1, 1, -1}, {-1, -1, 1, 1}, {-1, 1, -1, 1}};
+  static const int Es[3][4] = {{-1, 1, -1, 1}, {-1, 1, 1, -1}, {-1, -1, 1, 1}};
+  const int sign = ground ? Es[r][c] : Gs[r][c];
+  const std::string n = e_name(b, Gi[r][c]);
+  return sign > 0 ? "2*" + n : "-2*" + n;
+}
+
+LinVec3 rates(const Body& b, bool ground) {
+  LinVec3 w;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) w[r] = add(w[r], scale(rate_entry(b, ground, r, c), velocity_of(e_name(b, c))));
+  return w;
+}
+
+// The rotation matrix A(e) as polynomial texts (the form exact for any e on |e| = 1).
+Mat3 rotation_texts(const Body& b) {
+  const std::string e0 = e_name(b, 0), e1 = e_name(b, 1), e2 = e_name(b, 2), e3 = e_name(b, 3);
+  Mat3 A;
+  A.m[0][0] = e0 + "^2 + " + e1 + "^2 - " + e2 + "^2 - " + e3 + "^2";
+  A.m[0][1] = "2*(" + e1 + "*" + e2 + " - " + e0 + "*" + e3 + ")";
+  A.m[0][2] = "2*(" + e1 + "*" + e3 + " + " + e0 + "*" + e2 + ")";
+  A.m[1][0] = "2*(" + e1 + "*" + e2 + " + " + e0 + "*" + e3 + ")";
+  A.m[1][1] = e0 + "^2 - " + e1 + "^2 + " + e2 + "^2 - " + e3 + "^2";
+  A.m[1][2] = "2*(" + e2 + "*" + e3 + " - " + e0 + "*" + e1 + ")";
+  A.m[2][0] = "2*(" + e1 + "*" + e3 + " - " + e0 + "*" + e2 + ")";
+  A.m[2][1] = "2*(" + e2 + "*" + e3 + " + " + e0 + "*" + e1 + ")";
+  A.m[2][2] = e0 + "^2 - " + e1 + "^2 - " + e2 + "^2 + " + e3 + "^2";
+  return A;
+}
+
+std::string a_name(const Body& b, int i, int j) {
+  return b.name + "_a" + std::to_string(i + 1) + std::to_string(j + 1);
+}
+
+// Named rates of a spatial body (kept as symbols by the derivation, so that T is written in
+// them; this also keeps the tape the same from load to load, which inline sums with numeric
+// coefficients squared do not): NAME_w1..3 (body-frame angular velocity) and NAME_vc1..3 (the
+// centre of mass's velocity in ground).
+void define_rates(Expander& x, const Body& b, const Pose& p, const std::string& key,
+                  const std::array<Expr, 3>* w_text = nullptr) {
+  for (int i = 0; i < 3; ++i)
+    x.define(b.name + "_w" + std::to_string(i + 1), w_text ? (*w_text)[static_cast<std::size_t>(i)] : p.w_body[i].text(), key);
+  const LinVec3 vc = add(p.v, cross(p.w, apply(p.A, b.com)));
+  for (int i = 0; i < 3; ++i) x.define(b.name + "_vc" + std::to_string(i + 1), vc[i].text(), key);
+}
+
+bool all_numbers(const Mat3& J) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const std::string& s = J.m[i][j];
+      char* end = nullptr;
+      std::strtod(s.c_str(), &end);
+      if (s.empty() || end != s.c_str() + s.size()) return false;
+    }
+  return true;
+}
+
+class SpatialBody : public BodyKind {
+ public:
+  std::string name() const override { return "spatial"; }
+  bool planar() const override { return false; }
+
+  // inertia = [J1, J2, J3] (principal, body axes) or [[Jxx, Jxy, Jxz], [Jxy, Jyy, Jyz],
+  // [Jxz, Jyz, Jzz]] (about the centre of mass, body axes). Numbers are checked: symmetric,
+  // positive definite (a semidefinite tensor leaves M singular), and the principal moments
+  // satisfy the triangle inequality J_i <= J_j + J_k of every real mass distribution.
+  void read_inertia(Expander& x, const toml::node* node, Body& b) const override {
+    const std::string key = b.key + ".inertia";
+    const char* what =
+        "a spatial body's inertia about its centre of mass in body axes: [J1, J2, J3] (principal) "
+        "or a symmetric 3x3 list [[Jxx, Jxy, Jxz], [Jxy, Jyy, Jyz], [Jxz, Jyz, Jzz]]";
+    if (!node) x.fail(key, what);
+    const toml::array* a = node->as_array();
+    if (!a || a->size() != 3) x.fail(key, what);
+    Mat3 J;
+    const bool full = a->get(0)->is_array();
+    for (int i = 0; i < 3; ++i) {
+      const toml::node* row = a->get(static_cast<std::size_t>(i));
+      if (full) {
+        const toml::array* r = row->as_array();
+        if (!r || r->size() != 3) x.fail(key, what);
+        for (int j = 0; j < 3; ++j) J.m[i][j] = x.expression(*r->get(static_cast<std::size_t>(j)), key);
+      } else {
+        if (row->is_array()) x.fail(key, what);
+        for (int j = 0; j < 3; ++j) J.m[i][j] = "0";
+        J.m[i][i] = x.expression(*row, key);
+      }
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = i + 1; j < 3; ++j)
+        if (J.m[i][j] != J.m[j][i] &&
+            !(all_numbers(J) && std::strtod(J.m[i][j].c_str(), nullptr) == std::strtod(J.m[j][i].c_str(), nullptr)))
+          x.fail(key, std::string("a symmetric inertia tensor, got J") + "xyz"[i] + "xyz"[j] + " = " +
+                          J.m[i][j] + " but J" + "xyz"[j] + "xyz"[i] + " = " + J.m[j][i]);
+    if (all_numbers(J)) {
+      Eigen::Matrix3d M;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) M(i, j) = std::strtod(J.m[i][j].c_str(), nullptr);
+      const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(M).eigenvalues();
+      const std::string got = "principal moments " + format_number(ev[0]) + ", " + format_number(ev[1]) +
+                              ", " + format_number(ev[2]);
+      if (!(ev[0] > 0))
+        x.fail(key, "a positive definite inertia tensor (a zero or negative principal moment leaves "
+                    "the mass matrix singular), got " + got);
+      if (ev[2] > (ev[0] + ev[1]) * (1 + 1e-12))
+        x.fail(key, "principal moments that satisfy J_max <= J_a + J_b (every rigid mass distribution "
+                    "does), got " + got);
+    }
+    b.inertia = J;
+  }
+
+  std::vector<std::string> coordinates(const Body& b) const override {
+    std::vector<std::string> c{b.name + "_x", b.name + "_y", b.name + "_z"};
+    for (int i = 0; i < 4; ++i) c.push_back(e_name(b, i));
+    return c;
+  }
+
+  Pose free_pose(const Body& b) const override {
+    Pose p;
+    for (int i = 0; i < 3; ++i) {
+      p.r[i] = b.coordinates[static_cast<std::size_t>(i)];
+      p.v[i] = velocity_of(b.coordinates[static_cast<std::size_t>(i)]);
+    }
+    // The entries are the definitions NAME_aij (own_constraints defines them; definitions may
+    // be used before they are written).
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) p.A.m[i][j] = a_name(b, i, j);
+    p.w_body = rates(b, false);
+    p.w = rates(b, true);
+    return p;
+  }
+
+  void own_constraints(Expander& x, const Body& b) const override {
+    const Mat3 A = rotation_texts(b);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) x.define(a_name(b, i, j), A.m[i][j], b.key);
+    define_rates(x, b, b.pose, b.key);
+    std::vector<Expr> s;
+    for (int i = 0; i < 4; ++i) s.push_back(e_name(b, i) + "*" + e_name(b, i) + "_d");
+    x.define(b.name + "_s", sum(s), b.key);
+    Row r;
+    r.name = b.name + "_norm";
+    r.holonomic = e_name(b, 0) + "^2 + " + e_name(b, 1) + "^2 + " + e_name(b, 2) + "^2 + " + e_name(b, 3) + "^2 - 1";
+    x.add_constraint(r, b.key);
+  }
+
+  // ½ m |v_c|² + ½ ω'ᵀ J ω' (+ ½ k (e·ė)² for a body with Euler parameters), in the named rates.
+  Expr kinetic(const Body& b) const override {
+    const std::string n = b.name;
+    Expr T = mul(mul("1/2", b.mass), "(" + n + "_vc1^2 + " + n + "_vc2^2 + " + n + "_vc3^2)");
+    std::vector<Expr> rot;
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        const Expr& J = b.inertia.m[i][j];
+        if (is_zero(J)) continue;
+        const std::string wi = n + "_w" + std::to_string(i + 1), wj = n + "_w" + std::to_string(j + 1);
+        rot.push_back(i == j ? mul(J, wi + "^2") : mul(mul("2", J), wi + "*" + wj));
+      }
+    if (!rot.empty()) T = add(T, mul("1/2", paren(sum(rot))));
+    if (!b.parent_joint.empty()) return T;  // placed by a tree joint: no Euler parameters
+    const Expr k = "4*(" + sum({b.inertia.m[0][0], b.inertia.m[1][1], b.inertia.m[2][2]}) + ")/3";
+    return add(T, "1/2*" + paren(k) + "*" + n + "_s^2");
+  }
+};
+
+// ---- joints ----------------------------------------------------------------------------
+
+struct Frames {
+  const Body* b1;
+  const Body* b2;
+  const Marker* m1;
+  const Marker* m2;
+  Vec3 P1, P2, d;   // marker positions, d = P2 - P1
+  Mat3 E1, E2;      // marker axes in ground (columns u, v, w)
+};
+
+Frames frames(Expander& x, const Joint& j) {
+  Frames f;
+  f.b1 = &x.body(j.body1, j.key + ".body1");
+  f.b2 = &x.body(j.body2, j.key + ".body2");
+  f.m1 = &x.marker(*f.b1, j.marker1, j.key + ".marker1");
+  f.m2 = &x.marker(*f.b2, j.marker2, j.key + ".marker2");
+  f.P1 = x.marker_position(*f.b1, *f.m1);
+  f.P2 = x.marker_position(*f.b2, *f.m2);
+  f.d = sub(f.P2, f.P1);
+  f.E1 = x.marker_axes(*f.b1, *f.m1);
+  f.E2 = x.marker_axes(*f.b2, *f.m2);
+  return f;
+}
+
+Expr lam(const Row& r) { return "lambda_" + r.name; }
+
+// A force row: d · (axis i of the joint frame) = 0; its multiplier is that force component on
+// body2 (acting at marker2).
+void force_row(Joint& j, const Frames& f, int axis, Vec3& F) {
+  static const char* names[3] = {"x", "y", "z"};
+  Row r;
+  r.name = j.name + "_" + names[axis];
+  r.holonomic = dot(column(f.E1, axis), f.d);
+  j.rows.push_back(r);
+  F = add(F, scale(lam(r), column(f.E1, axis)));
+}
+
+// An orientation row: a2 · a1 = 0 (a2 an axis of marker2, a1 of marker1). On body2 it exerts
+// the moment λ (a2 × a1) (δ(a2·a1) = δθ2 · (a2 × a1)).
+void angle_row(Joint& j, const std::string& suffix, const Vec3& a1, const Vec3& a2, Vec3& M) {
+  Row r;
+  r.name = j.name + "_" + suffix;
+  r.holonomic = dot(a2, a1);
+  j.rows.push_back(r);
+  M = add(M, scale(lam(r), cross(a2, a1)));
+}
+
+// Sets the joint's reaction (ground-axis vectors F, M on body2) in the joint frame.
+void set_reaction(Joint& j, const Frames& f, const Vec3& F, const Vec3& M) {
+  j.force = apply_transposed(f.E1, F);
+  j.moment = apply_transposed(f.E1, M);
+  j.has_reaction = true;
+}
+
+// Which rows a lower pair has: force rows along x, y, z of the joint frame; orientation rows.
+struct PairRows {
+  bool fx, fy, fz;   // d·u1, d·v1, d·w1
+  bool axis;         // w2·u1, w2·v1 (the z axes parallel)
+  bool twist;        // u2·v1 (no rotation about z)
+};
+
+void pair_rows(Expander& x, Joint& j, const PairRows& p) {
+  const Frames f = frames(x, j);
+  Vec3 F, M;
+  if (p.fx) force_row(j, f, 0, F);
+  if (p.fy) force_row(j, f, 1, F);
+  if (p.fz) force_row(j, f, 2, F);
+  const Vec3 u1 = column(f.E1, 0), v1 = column(f.E1, 1), u2 = column(f.E2, 0), w2 = column(f.E2, 2);
+  if (p.axis) {
+    angle_row(j, "ax", u1, w2, M);
+    angle_row(j, "ay", v1, w2, M);
+  }
+  if (p.twist) angle_row(j, "az", v1, u2, M);
+  set_reaction(j, f, F, M);
+}
+
+template <bool FX, bool FY, bool FZ, bool AXIS, bool TWIST>
+class SpatialPair : public JointType {
+ public:
+  explicit SpatialPair(std::string name) : name_(std::move(name)) {}
+  std::string name() const override { return name_; }
+  void rows(Expander& x, Joint& j) const override { pair_rows(x, j, {FX, FY, FZ, AXIS, TWIST}); }
+
+ private:
+  std::string name_;
+};
+
+// Revolute joint: the markers coincide and their z axes are parallel (rows <joint>_x, _y, _z,
+// _ax, _ay); as a tree joint (`coordinates = ["angle"]`) it places body2 by the angle of
+// marker2's x axis from marker1's about their common z axis (no rows, no Euler parameters for
+// body2: a wheel turning on its frame).
+class SpatialRevolute : public JointType {
+ public:
+  std::string name() const override { return "revolute"; }
+  int tree_coordinates(bool) const override { return 1; }
+  void rows(Expander& x, Joint& j) const override { pair_rows(x, j, {true, true, true, true, false}); }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    const Body& b1 = x.body(j.body1, j.key + ".body1");
+    const Body& b2 = x.body(j.body2, j.key + ".body2");
+    const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
+    const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
+    if (j.coordinates.size() != 1 || j.coordinates[0].empty())
+      x.fail(j.key + ".coordinates", "one coordinate name, the joint's angle (a revolute tree joint)");
+    const std::string th = j.coordinates[0];
+    Mat3 R2t;  // R2ᵀ
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) R2t.m[a][c] = m2.R.m[c][a];
+    const Mat3 Arel = multiply(multiply(m1.R, Mat3::rot_z(th)), R2t);
+    const Mat3 A2t = multiply(b1.pose.A, Arel);
+    Pose p;
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) p.A.m[a][c] = x.define(a_name(b2, a, c), A2t.m[a][c], j.key);
+    const Vec3 r2 = sub(add(b1.pose.r, apply(b1.pose.A, m1.p)), apply(p.A, m2.p));
+    for (int a = 0; a < 3; ++a) p.r[a] = x.define(b2.name + "_" + "xyz"[a], r2[a], j.key);
+    const Vec3 z1 = column(m1.R, 2);               // the axis in body1's frame
+    const LinVec3 wrel_parent = [&] {
+      LinVec3 w;
+      for (int a = 0; a < 3; ++a) w[a] = scale(z1[a], velocity_of(th));
+      return w;
+    }();
+    p.w = add(b1.pose.w, apply(b1.pose.A, wrel_parent));
+    LinVec3 w2b_own;
+    for (int a = 0; a < 3; ++a) w2b_own[a] = scale(m2.R.m[a][2], velocity_of(th));  // θ̇ R2 ẑ
+    p.w_body = add(apply_transposed(Arel, b1.pose.w_body), w2b_own);
+    p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, m1.p))),
+              cross(p.w, scale("-1", apply(p.A, m2.p))));
+    // ω'2 = Arelᵀ ω'1 + θ̇ R2 ẑ, written in body1's named rates (body1 spatial) for a short T.
+    std::array<Expr, 3> wt;
+    const bool named = !b1.ground && !x.kind(b1).planar();
+    for (int i = 0; i < 3; ++i) {
+      std::vector<Expr> terms;
+      if (named)
+        for (int k = 0; k < 3; ++k) terms.push_back(mul(Arel.m[k][i], b1.name + "_w" + std::to_string(k + 1)));
+      terms.push_back(mul(m2.R.m[i][2], th + "_d"));
+      wt[static_cast<std::size_t>(i)] = sum(terms);
+    }
+    define_rates(x, b2, p, j.key, (named || b1.ground) ? &wt : nullptr);
+    rel.A = Arel;
+    rel.r = sub(m1.p, apply(Arel, m2.p));
+    rel.w = wrel_parent;
+    rel.w_body = w2b_own;
+    rel.v = cross(wrel_parent, scale("-1", apply(Arel, m2.p)));
+    return p;
+  }
+};
+
+// Universal joint: the markers coincide; the cross's arms are marker1's x axis (on body1) and
+// marker2's y axis (on body2), kept perpendicular (row <joint>_cross: u1 · v2 = 0).
+class SpatialUniversal : public JointType {
+ public:
+  std::string name() const override { return "universal"; }
+  void rows(Expander& x, Joint& j) const override {
+    const Frames f = frames(x, j);
+    Vec3 F, M;
+    for (int i = 0; i < 3; ++i) force_row(j, f, i, F);
+    angle_row(j, "cross", column(f.E1, 0), column(f.E2, 1), M);
+    set_reaction(j, f, F, M);
+  }
+};
+
+// Spatial distance (rod): sqrt(d·d) − L = 0; its multiplier is the rod's tension-positive force
+// on body2 along d (pushing body2 away from marker1 when positive).
+class SpatialDistance : public JointType {
+ public:
+  std::string name() const override { return "distance"; }
+  std::vector<std::string> extra_keys() const override { return {"length"}; }
+  void rows(Expander& x, Joint& j) const override {
+    const Frames f = frames(x, j);
+    const Expr L = x.required(*j.table, j.key, "length", "the distance between the markers (an expression)");
+    const Expr len = "sqrt(" + dot(f.d, f.d) + ")";
+    Row r;
+    r.name = j.name;
+    r.holonomic = sub(len, L);
+    j.rows.push_back(r);
+    Vec3 F = scale(lam(r) + "/" + len, f.d), M;
+    set_reaction(j, f, F, M);
+  }
+};
+
+// A wheel (a thin disk: marker2 at its centre, marker2's z its axis, radius `radius`) rolling
+// without slip on a plane (marker1's x-y plane; normal w1). Rows: <joint>_n (holonomic: the
+// centre is r σ above the plane, σ = |w1 × a|), <joint>_x and <joint>_y (velocity form: the
+// material point of the wheel at the contact has zero velocity along u1, v1 relative to the
+// plane's body). The contact point is C + ρ, ρ = −r (w1 − (w1·a) a)/σ.
+class SpatialWheel : public JointType {
+ public:
+  std::string name() const override { return "wheel"; }
+  std::vector<std::string> extra_keys() const override { return {"radius"}; }
+  void rows(Expander& x, Joint& j) const override {
+    const Frames f = frames(x, j);
+    const Expr r = x.required(*j.table, j.key, "radius", "the wheel's radius (an expression)");
+    const Vec3 n = column(f.E1, 2), a = column(f.E2, 2);
+    const Vec3 c = cross(n, a);
+    const std::string pre = j.name + "_";
+    const Expr sigma = x.define(pre + "sigma", "sqrt(" + dot(c, c) + ")", j.key);
+    const Expr na = x.define(pre + "na", dot(n, a), j.key);
+    Vec3 rho;
+    for (int i = 0; i < 3; ++i) {
+      const Expr comp = "-" + paren(r) + "*(" + sub(n[i], mul(na, paren(a[i]))) + ")/" + sigma;
+      rho[i] = x.define(pre + "rho" + "xyz"[i], comp, j.key);
+    }
+    Row rn;
+    rn.name = pre + "n";
+    rn.holonomic = sub(dot(n, f.d), mul(r, sigma));
+    j.rows.push_back(rn);
+    const Vec3 P = add(f.P2, rho);
+    LinVec3 vrel = x.point_velocity(*f.b2, P);
+    if (!f.b1->ground) {
+      const LinVec3 v1 = x.point_velocity(*f.b1, P);
+      for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
+    }
+    Vec3 F = scale(lam(rn), n);
+    for (int i = 0; i < 2; ++i) {
+      Row rt;
+      rt.name = pre + std::string(i == 0 ? "x" : "y");
+      rt.velocity_form = true;
+      rt.velocity = dot(column(f.E1, i), vrel);
+      j.rows.push_back(rt);
+      F = add(F, scale(lam(rt), column(f.E1, i)));
+    }
+    // The force acts at the contact point: its moment about the wheel's centre is ρ × F.
+    set_reaction(j, f, F, cross(rho, F));
+  }
+};
+
+}  // namespace
+
+Mat3 spatial_marker_axes(Expander& x, const toml::table& t, const std::string& key) {
+  Vec3 axis;
+  axis[2] = "1";
+  if (const toml::node* a = t.get("axis")) axis = x.vector(*a, key + ".axis", false);
+  Expr angle = "0";
+  if (const toml::node* a = t.get("angle")) angle = x.expression(*a, key + ".angle");
+  if (is_zero(angle)) return Mat3{};
+  // u = axis/|axis| (numerically when the axis is numbers).
+  Vec3 u;
+  bool numeric = true;
+  double v[3];
+  for (int i = 0; i < 3; ++i) {
+    char* end = nullptr;
+    v[i] = std::strtod(axis[i].c_str(), &end);
+    if (axis[i].empty() || end != axis[i].c_str() + axis[i].size()) numeric = false;
+  }
+  if (numeric) {
+    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(n > 0)) x.fail(key + ".axis", "a nonzero axis [x, y, z] (the marker's rotation from the body frame)");
+    for (int i = 0; i < 3; ++i) u[i] = v[i] == 0 ? "0" : format_number(v[i] / n);
+    // exact unit axes stay exact
+    for (int i = 0; i < 3; ++i)
+      if (std::abs(v[i]) == n) u[i] = v[i] > 0 ? "1" : "-1";
+  } else {
+    const Expr len = "sqrt(" + dot(axis, axis) + ")";
+    for (int i = 0; i < 3; ++i) u[i] = is_zero(axis[i]) ? "0" : paren(axis[i]) + "/" + len;
+  }
+  // Rodrigues: R = c I + (1 - c) u u^T + s [u]x.
+  const Expr c = "cos(" + angle + ")", sn = "sin(" + angle + ")", omc = "(1 - cos(" + angle + "))";
+  Mat3 R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R.m[i][j] = add(i == j ? c : "0", mul(omc, mul(u[i], u[j])));
+  R.m[0][1] = sub(R.m[0][1], mul(sn, u[2]));
+  R.m[0][2] = add(R.m[0][2], mul(sn, u[1]));
+  R.m[1][0] = add(R.m[1][0], mul(sn, u[2]));
+  R.m[1][2] = sub(R.m[1][2], mul(sn, u[0]));
+  R.m[2][0] = sub(R.m[2][0], mul(sn, u[1]));
+  R.m[2][1] = add(R.m[2][1], mul(sn, u[0]));
+  return R;
+}
+
+void register_spatial_bodies() {
+  register_body_kind(std::make_shared<SpatialBody>());
+  // Lower pairs: rows in the joint frame (marker1's axes).
+  register_joint_type(std::make_shared<SpatialPair<true, true, true, false, false>>("spherical"));
+  register_joint_type(std::make_shared<SpatialPair<true, true, false, true, false>>("cylindrical"));
+  register_joint_type(std::make_shared<SpatialPair<false, false, true, false, false>>("point_on_plane"));
+  register_joint_type(std::make_shared<SpatialUniversal>());
+  register_joint_type(std::make_shared<SpatialWheel>());
+  register_spatial_joint_type(std::make_shared<SpatialRevolute>());
+  register_spatial_joint_type(std::make_shared<SpatialPair<true, true, false, true, true>>("prismatic"));
+  register_spatial_joint_type(std::make_shared<SpatialPair<true, true, true, true, true>>("fixed"));
+  register_spatial_joint_type(std::make_shared<SpatialPair<false, false, true, true, false>>("planar"));
+  register_spatial_joint_type(std::make_shared<SpatialPair<true, true, false, false, false>>("point_on_line"));
+  register_spatial_joint_type(std::make_shared<SpatialDistance>());
+}
+
+}  // namespace pcsim::modelfile::bodies

@@ -1,0 +1,377 @@
+// Bodies, joints and forces (issue 22, docs/bodies.md): the body form expands into the energy
+// form of today's model files. Oracles: the hand-written energy-form files (double pendulum,
+// slider-crank), the reactions R = gᵀλ the engine computes (a formula of R, not of λ), statics
+// in closed form, and the expanded text read back (bit-identical).
+#define BOOST_TEST_MODULE test_bodies
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "mech/simulation.hpp"
+#include "modelfile/bodies.hpp"
+#include "modelfile/expression_model.hpp"
+#include "modelfile/model_file.hpp"
+#include "modelfile/model_source.hpp"
+#include "modelfile_test_util.hpp"
+
+using namespace pcsim;
+using namespace pcsim::modelfile;
+using namespace pcsim::modelfile::testing;
+
+namespace {
+
+std::vector<int> all_constraints(const mech::Model& m) {
+  std::vector<int> a;
+  for (int i = 0; i < static_cast<int>(m.constraints().size()); ++i) a.push_back(i);
+  return a;
+}
+
+// M, h, Q, g, g0, γ of two models at `count` random states (coordinates also far from the
+// origin: offset), every constraint of `a` active, to 1e-12 of each block's scale.
+void expect_same_equations(const mech::Model& a, const mech::Model& b, int count, double offset) {
+  BOOST_REQUIRE_EQUAL(a.n(), b.n());
+  BOOST_REQUIRE_EQUAL(a.constraints().size(), b.constraints().size());
+  for (std::size_t i = 0; i < a.constraints().size(); ++i)
+    BOOST_CHECK_EQUAL(a.constraints()[i].name, b.constraints()[i].name);
+  std::mt19937 rng(22);
+  const std::vector<int> active = all_constraints(a);
+  double worst = 0.0;
+  for (int k = 0; k < count; ++k) {
+    Eigen::VectorXd q(a.n()), qd(a.n());
+    for (int i = 0; i < a.n(); ++i) {
+      q[i] = (k % 2 ? offset : 0.0) + 3.0 * uniform(rng);
+      qd[i] = 5.0 * uniform(rng);
+    }
+    const double t = uniform(rng);
+    const Evaluation ea = evaluate(a, active, t, q, qd), eb = evaluate(b, active, t, q, qd);
+    for (double d : {rel_diff(ea.M, eb.M), rel_diff(ea.h, eb.h, 1e-12), rel_diff(ea.Q, eb.Q, 1e-12),
+                     rel_diff(ea.g, eb.g), rel_diff(ea.g0, eb.g0, 1e-12),
+                     rel_diff(ea.gamma, eb.gamma, 1e-12)})
+      worst = std::max(worst, d);
+  }
+  BOOST_TEST_MESSAGE("worst relative difference " << worst);
+  BOOST_CHECK_LT(worst, 1e-12);
+}
+
+std::shared_ptr<const ModelDescription> expanded(const std::string& file) {
+  const auto src = detail::load_model_source(model_path(file));
+  return load_model_text(bodies::energy_form_text(src), "expanded_" + file);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(double_pendulum_as_bodies_equals_the_energy_form_file) {
+  const auto bodies = load_model_file(model_path("double_pendulum_bodies.toml"));
+  const auto energy = load_model_file(model_path("double_pendulum.toml"));
+  BOOST_CHECK(bodies->coordinates() == energy->coordinates());
+  expect_same_equations(*bodies->instantiate({}), *energy->instantiate({}), 500, 1000.0);
+  expect_same_equations(*bodies->instantiate({{"m2", 2.5}, {"L1", 0.3}}),
+                        *energy->instantiate({{"m2", 2.5}, {"L1", 0.3}}), 100, 0.0);
+}
+
+BOOST_AUTO_TEST_CASE(slider_crank_as_bodies_equals_the_energy_form_file) {
+  const auto bodies = load_model_file(model_path("slider_crank_bodies.toml"));
+  const auto energy = load_model_file(model_path("slider_crank.toml"));
+  BOOST_CHECK(bodies->coordinates() == energy->coordinates());
+  expect_same_equations(*bodies->instantiate({}), *energy->instantiate({}), 500, 1000.0);
+  expect_same_equations(*bodies->instantiate({{"l1", 0.35}, {"tau", -2.0}, {"c", 3.0}}),
+                        *energy->instantiate({{"l1", 0.35}, {"tau", -2.0}, {"c", 3.0}}), 100, 0.0);
+}
+
+BOOST_AUTO_TEST_CASE(expanded_text_reads_back_to_bit_identical_equations_and_outputs) {
+  for (const std::string file : {"double_pendulum_bodies.toml", "slider_crank_bodies.toml"}) {
+    const auto a = load_model_file(model_path(file))->instantiate({});
+    const auto b = expanded(file)->instantiate({});
+    const std::vector<int> active = all_constraints(*a);
+    std::mt19937 rng(7);
+    for (int k = 0; k < 100; ++k) {
+      Eigen::VectorXd q(a->n()), qd(a->n()), qdd(a->n()), R(a->n());
+      for (int i = 0; i < a->n(); ++i) {
+        q[i] = 2.0 * uniform(rng);
+        qd[i] = uniform(rng);
+        qdd[i] = uniform(rng);
+        R[i] = uniform(rng);
+      }
+      Eigen::VectorXd lambda(static_cast<Eigen::Index>(active.size()));
+      for (auto& l : lambda) l = uniform(rng);
+      const Evaluation ea = evaluate(*a, active, 0.1, q, qd), eb = evaluate(*b, active, 0.1, q, qd);
+      BOOST_CHECK(ea.M == eb.M);
+      BOOST_CHECK(ea.h == eb.h);
+      BOOST_CHECK(ea.Q == eb.Q);
+      BOOST_CHECK(ea.g == eb.g);
+      BOOST_CHECK(ea.g0 == eb.g0);
+      BOOST_CHECK(ea.gamma == eb.gamma);
+      Eigen::VectorXd oa, ob;
+      a->derived_with_multipliers(0.1, q, qd, qdd, R, active, lambda, oa);
+      b->derived_with_multipliers(0.1, q, qd, qdd, R, active, lambda, ob);
+      BOOST_REQUIRE_EQUAL(oa.size(), ob.size());
+      for (Eigen::Index i = 0; i < oa.size(); ++i)
+        BOOST_CHECK(oa[i] == ob[i] || (std::isnan(oa[i]) && std::isnan(ob[i])));
+    }
+    BOOST_CHECK(a->derived_names() == b->derived_names());
+  }
+}
+
+// The multipliers in outputs: the body model's rod tensions come from lambda (F_rod_x = 2λ|d|),
+// the energy-form file's from R (a projection of the generalized reactions on the rods); over a
+// chaotic run they agree at every output time.
+BOOST_AUTO_TEST_CASE(lambda_outputs_equal_the_reactions_projected_on_the_rods) {
+  const auto desc = load_model_file(model_path("double_pendulum_bodies.toml"));
+  const auto model = desc->instantiate({});
+  Eigen::VectorXd q0(4), qd0 = Eigen::VectorXd::Zero(4);
+  q0 << 0.8660254037844386, -0.5, 1.5660254037844386, -0.5;
+  mech::SimulationOptions o;
+  o.t_end = 1.0;
+  o.rtol = 1e-9;
+  o.atol = 1e-11;
+  o.active_constraints = desc->default_active_constraints();
+  const auto names = model->derived_names();
+  const auto col = [&](const std::string& n) {
+    return static_cast<int>(std::find(names.begin(), names.end(), n) - names.begin());
+  };
+  int checked = 0;
+  double worst = 0.0;
+  const auto r = mech::simulate(*model, q0, qd0, o, [&](const mech::StepView& v) {
+    const mech::Sample& s = v.sample(v.t);
+    const Eigen::VectorXd& q = s.q;
+    const double d1 = std::hypot(q[0], q[1]), d2 = std::hypot(q[2] - q[0], q[3] - q[1]);
+    // From R: the lower rod's tension from bob2's reaction; the upper one's from bob1's
+    // reaction minus the lower rod's pull on bob1 (as models/double_pendulum.toml writes it).
+    const double t2 = -(s.R[2] * (q[2] - q[0]) + s.R[3] * (q[3] - q[1])) / d2;
+    const double t1 = -(s.R[0] * q[0] + s.R[1] * q[1]) / d1 +
+                      t2 * ((q[2] - q[0]) * q[0] + (q[3] - q[1]) * q[1]) / (d1 * d2);
+    const double scale = 1.0 + std::abs(t1) + std::abs(t2);
+    worst = std::max({worst, std::abs(s.derived[col("tension1")] - t1) / scale,
+                      std::abs(s.derived[col("tension2")] - t2) / scale});
+    ++checked;
+    return true;
+  });
+  BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+  BOOST_CHECK_GT(checked, 20);
+  BOOST_TEST_MESSAGE("worst relative difference " << worst);
+  BOOST_CHECK_LT(worst, 1e-9);
+}
+
+// A body hanging at rest from a revolute joint whose frame (marker1 on ground) is turned by a:
+// the joint pulls the body up with m g, i.e. F = (m g sin a, m g cos a) in the joint frame, and
+// no moment about the pin. In ground axes (reactions = "ground"): (0, m g).
+BOOST_AUTO_TEST_CASE(joint_reaction_is_reported_in_the_joint_frame_and_in_ground) {
+  for (const std::string frame : {"joint", "ground"}) {
+    const std::string text = R"([model]
+name = "hanging"
+reactions = ")" + frame + R"("
+[model.parameters]
+m = 2.0
+L = 0.7
+a = 0.5
+[model.body.ground]
+markers = { pin = { at = [1000, -2000], angle = "a" } }
+[model.body.link]
+mass = "m"
+inertia = "m*L^2/12"
+com = [0, "-L/2"]
+markers = { top = [0, 0] }
+[model.joint.pin]
+type = "revolute"
+marker1 = "pin"
+body2 = "link"
+marker2 = "top"
+[model.force.gravity]
+type = "gravity"
+g = [0, -9.81]
+)";
+    const auto desc = load_model_text(text, "hanging.toml");
+    const auto model = desc->instantiate({});
+    BOOST_REQUIRE(model->coordinates() == (std::vector<std::string>{"link_x", "link_y", "link_th"}));
+    Eigen::VectorXd q0(3), qd0 = Eigen::VectorXd::Zero(3);
+    q0 << 1000.0, -2000.0, 0.0;
+    mech::SimulationOptions o;
+    o.t_end = 0.01;
+    o.active_constraints = desc->default_active_constraints();
+    const auto names = model->derived_names();
+    BOOST_REQUIRE(names == (std::vector<std::string>{"F_pin_x", "F_pin_y", "M_pin_z"}));
+    Eigen::VectorXd first;
+    mech::simulate(*model, q0, qd0, o, [&](const mech::StepView& v) {
+      if (first.size() == 0) first = v.sample(v.t).derived;
+      return true;
+    });
+    BOOST_REQUIRE_EQUAL(first.size(), 3);
+    const double mg = 2.0 * 9.81, a = 0.5;
+    if (frame == "joint") {
+      BOOST_CHECK_CLOSE(first[0], mg * std::sin(a), 1e-8);
+      BOOST_CHECK_CLOSE(first[1], mg * std::cos(a), 1e-8);
+    } else {
+      BOOST_CHECK_SMALL(first[0], 1e-9 * mg);
+      BOOST_CHECK_CLOSE(first[1], mg, 1e-8);
+    }
+    BOOST_CHECK_EQUAL(first[2], 0.0);
+  }
+}
+
+// The sieve as bodies and joints (models/sieve_1995_bodies.toml) against the paper's (3.4),
+// (3.4a)-(3.4f) with the errata applied (models/sieve_1995.toml): M, h (so T up to terms that
+// do not enter the equations of motion), Q and every constraint row at 1,000 random states.
+BOOST_AUTO_TEST_CASE(sieve_as_bodies_equals_the_errata_corrected_energy_form) {
+  const auto bodies = load_model_file(model_path("sieve_1995_bodies.toml"));
+  const auto energy = load_model_file(model_path("sieve_1995.toml"));
+  BOOST_CHECK(bodies->coordinates() == energy->coordinates());
+  Eigen::VectorXd q0(6);
+  q0 << 0.0, 0.0, 0.0, 0.4, 0.15, 0.0;
+  expect_same_equations(*bodies->instantiate({}, q0), *energy->instantiate({}, q0), 1000, 0.0);
+  // Other geometry (every attachment point off its default) and a state far from the origin.
+  const std::map<std::string, double> p{{"yc", 0.07}, {"yb", -0.05}, {"xc", 0.03}, {"xb", -0.02},
+                                        {"x0", -0.3}, {"y0", 0.45}, {"e", 0.02}, {"u0", 0.2}};
+  expect_same_equations(*bodies->instantiate(p, q0), *energy->instantiate(p, q0), 200, 10.0);
+}
+
+// The two sieves integrate to the same motion (rtol 1e-10): the states and the reactions agree
+// at every output time to 1e-7 of their scale over 1 s (45 excitation periods).
+BOOST_AUTO_TEST_CASE(sieve_as_bodies_runs_as_the_energy_form) {
+  const auto da = load_model_file(model_path("sieve_1995_bodies.toml"));
+  const auto db = load_model_file(model_path("sieve_1995.toml"));
+  Eigen::VectorXd q0(6), qd0 = Eigen::VectorXd::Zero(6);
+  q0 << 0.0, 0.0, 0.0, 0.4, 0.15, 0.0;
+  const auto ma = da->instantiate({}, q0), mb = db->instantiate({}, q0);
+  mech::SimulationOptions o;
+  o.t_end = 1.0;
+  o.rtol = 1e-10;
+  o.atol = 1e-13;
+  o.active_constraints = {"contact", "rolling"};
+  std::vector<mech::Sample> sa, sb;
+  auto record = [](std::vector<mech::Sample>& out) {
+    return [&out](const mech::StepView& v) {
+      out.push_back(v.sample(v.t));
+      return true;
+    };
+  };
+  const auto ra = mech::simulate(*ma, q0, qd0, o, record(sa));
+  const auto rb = mech::simulate(*mb, q0, qd0, o, record(sb));
+  BOOST_REQUIRE(ra.status == mech::SimulationStatus::success);
+  BOOST_REQUIRE(rb.status == mech::SimulationStatus::success);
+  const double dq = rel_diff(ra.q_end.head(3), rb.q_end.head(3), 1e-9);
+  const double dv = rel_diff(ra.qd_end, rb.qd_end, 1e-9);
+  BOOST_TEST_MESSAGE("q_end (desk) " << dq << ", qd_end " << dv);
+  BOOST_CHECK_LT(dq, 1e-6);
+  BOOST_CHECK_LT(dv, 1e-6);
+  BOOST_CHECK_LT(std::abs(ra.q_end[3] - rb.q_end[3]), 1e-10);
+  // The normal reaction: R_u ~ m2 g cos(theta), the one that decides contact.
+  BOOST_REQUIRE(!sa.empty() && !sb.empty());
+  BOOST_CHECK_CLOSE(sa.back().R[4], sb.back().R[4], 1e-5);
+}
+
+namespace {
+
+// θ'' = −k cos θ (θ from the horizontal), classical RK4 with step h: the minimal-coordinate
+// solution the body models are checked against (an independent formulation).
+double pendulum_angle(double k, double theta0, double t_end, double h = 1e-4) {
+  double th = theta0, w = 0.0;
+  const int steps = static_cast<int>(std::lround(t_end / h));
+  auto f = [k](double a) { return -k * std::cos(a); };
+  for (int i = 0; i < steps; ++i) {
+    const double k1t = w, k1w = f(th);
+    const double k2t = w + 0.5 * h * k1w, k2w = f(th + 0.5 * h * k1t);
+    const double k3t = w + 0.5 * h * k2w, k3w = f(th + 0.5 * h * k2t);
+    const double k4t = w + h * k3w, k4w = f(th + h * k3t);
+    th += h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t);
+    w += h / 6.0 * (k1w + 2 * k2w + 2 * k3w + k4w);
+  }
+  return th;
+}
+
+}  // namespace
+
+// IFToMM A01, the simple pendulum (m = 1 kg, L = 1 m, g = 9.81, released horizontally): a
+// particle on a rod (a distance joint, 2 coordinates) and, as a physical pendulum, a uniform
+// bar on a revolute joint (3 coordinates, 2 rows), each against the minimal-coordinate angle
+// integrated by RK4 in this test; energy balance over 5 s.
+BOOST_AUTO_TEST_CASE(iftomm_a01_pendulum_follows_the_minimal_coordinate_solution) {
+  const double g = 9.81, L = 1.0, t_end = 5.0;
+  struct Variant {
+    std::string text;
+    Eigen::VectorXd q0;
+    double k;  // θ'' = −k cos θ
+  };
+  std::vector<Variant> variants;
+  {
+    Variant v;
+    v.text = R"([model]
+name = "a01"
+[model.parameters]
+m = 1.0
+L = 1.0
+g = 9.81
+[model.body.bob]
+kind = "particle"
+mass = "m"
+[model.joint.rod]
+type = "distance"
+body2 = "bob"
+length = "L"
+[model.force.gravity]
+type = "gravity"
+g = [0, "-g"]
+)";
+    v.q0 = Eigen::Vector2d(L, 0.0);
+    v.k = g / L;
+    variants.push_back(v);
+  }
+  {
+    Variant v;  // a uniform bar pinned at its end: J_pivot = m L²/3, k = m g (L/2) / J_pivot
+    v.text = R"([model]
+name = "a01_bar"
+[model.parameters]
+m = 1.0
+L = 1.0
+g = 9.81
+[model.body.bar]
+mass = "m"
+inertia = "m*L^2/12"
+markers = { pin = ["-L/2", 0] }
+[model.joint.pin]
+type = "revolute"
+body2 = "bar"
+marker2 = "pin"
+[model.force.gravity]
+type = "gravity"
+g = [0, "-g"]
+)";
+    v.q0 = Eigen::Vector3d(L / 2, 0.0, 0.0);
+    v.k = 1.5 * g / L;
+    variants.push_back(v);
+  }
+  for (const Variant& v : variants) {
+    const auto desc = load_model_text(v.text, v.text.substr(15, 8));
+    const auto model = desc->instantiate({});
+    mech::SimulationOptions o;
+    o.t_end = t_end;
+    o.rtol = 1e-11;
+    o.atol = 1e-12;
+    o.active_constraints = desc->default_active_constraints();
+    const Eigen::VectorXd qd0 = Eigen::VectorXd::Zero(model->n());
+    double e_drift = 0.0;
+    auto energy = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+      Eigen::MatrixXd M(model->n(), model->n());
+      Eigen::VectorXd h(model->n());
+      model->kinetic_terms(0.0, q, qd, M, h);
+      const double yc = model->n() == 2 ? q[1] : q[1];  // the centre of mass height
+      return 0.5 * qd.dot(M * qd) + 1.0 * g * yc;
+    };
+    const double e0 = energy(v.q0, qd0);
+    const auto r = mech::simulate(*model, v.q0, qd0, o, [&](const mech::StepView& s) {
+      const mech::Sample& x = s.sample(s.t);
+      e_drift = std::max(e_drift, std::abs(energy(x.q, x.qd) - e0));
+      return true;
+    });
+    BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+    const double th = pendulum_angle(v.k, 0.0, t_end);
+    const double lc = model->n() == 2 ? L : L / 2;  // where q[0], q[1] sit on the pendulum
+    BOOST_TEST_MESSAGE(desc->name() << ": x " << r.q_end[0] << " vs " << lc * std::cos(th)
+                                    << ", energy drift " << e_drift);
+    BOOST_CHECK_SMALL(r.q_end[0] - lc * std::cos(th), 1e-7);
+    BOOST_CHECK_SMALL(r.q_end[1] - lc * std::sin(th), 1e-7);
+    BOOST_CHECK_LT(e_drift, 1e-7 * g);
+  }
+}
+

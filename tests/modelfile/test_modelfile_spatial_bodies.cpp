@@ -1,0 +1,309 @@
+// Spatial rigid bodies in Euler parameters (models/tumbling_body.toml, models/top_heavy.toml,
+// models/rolling_coin.toml, written by scripts/make_spatial_models.py; docs/bodies-spatial.md),
+// each against an oracle that is not pcsim's model file:
+// - the regularization 1/2 k (e . e_d)^2 that makes M positive definite changes neither q_dd nor
+//   R on the constraint manifold (the proof in the docs; here: k scaled by 1e-2 and 1e2 at random
+//   states gives the same q_dd and R to rounding, and k = 0 leaves M singular);
+// - a free asymmetric body near its intermediate axis flips (Dzhanibekov) as Euler's equations
+//   integrated by this test's own RK4 say, with energy and |angular momentum| conserved;
+// - the heavy symmetric top started in steady precession keeps the closed-form rate
+//   Omega (I3 w3 - I1 Omega cos(theta)) = m g l and its nutation angle;
+// - a coin started in steady circular rolling keeps its tilt and the closed-form circle
+//   Omega^2 = g tan(beta) / (3 Rc / 2 + r sin(beta) / 4).
+#define BOOST_TEST_MODULE modelfile_spatial_bodies
+#include <boost/test/unit_test.hpp>
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "mech/dynamics.hpp"
+#include "mech/simulation.hpp"
+#include "modelfile/model_file.hpp"
+#include "modelfile_test_util.hpp"
+
+using namespace pcsim;
+using namespace pcsim::modelfile;
+using namespace pcsim::modelfile::testing;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Eigen::Vector4d;
+
+namespace {
+
+// G(e) (body-frame rates w' = 2 G e_d) and E(e) (ground-frame rates w = 2 E e_d).
+Eigen::Matrix<double, 3, 4> G_of(const Vector4d& e) {
+  Eigen::Matrix<double, 3, 4> G;
+  G << -e[1], e[0], e[3], -e[2], -e[2], -e[3], e[0], e[1], -e[3], e[2], -e[1], e[0];
+  return G;
+}
+Eigen::Matrix<double, 3, 4> E_of(const Vector4d& e) {
+  Eigen::Matrix<double, 3, 4> E;
+  E << -e[1], e[0], -e[3], e[2], -e[2], e[3], e[0], -e[1], -e[3], -e[2], e[1], e[0];
+  return E;
+}
+// A(e) = E G^T for |e| = 1 (the rotation body -> ground).
+Matrix3d A_of(const Vector4d& e) { return E_of(e) * G_of(e).transpose(); }
+
+// A state of a body model: (x, y, z, e0..e3) and velocities (e_d = 1/2 E^T w for a ground-frame
+// angular velocity w: E E^T = I and E e = 0 on |e| = 1, so e . e_d = 0).
+struct State {
+  Eigen::VectorXd q = Eigen::VectorXd(7), qd = Eigen::VectorXd(7);
+};
+State body_state(const Vector3d& r, const Vector4d& e, const Vector3d& v, const Vector3d& w) {
+  State s;
+  s.q << r, e;
+  s.qd << v, 0.5 * E_of(e).transpose() * w;
+  return s;
+}
+
+std::vector<std::string> all_constraints(const mech::Model& m) {
+  std::vector<std::string> names;
+  for (const auto& c : m.constraints()) names.push_back(c.name);
+  return names;
+}
+
+}  // namespace
+
+// At 20 random states on the manifold (|e| = 1, e . e_d = 0, random positions and velocities
+// otherwise) of each model, q_dd and R with k scaled by 1e-2 and by 1e2 equal those with the
+// chosen k to 1e-9 relative (M's condition changes by 1e2, so rounding grows to ~1e-12), and
+// with k = 0, M (7 x 7) has a zero eigenvalue (the reason for the term).
+BOOST_AUTO_TEST_CASE(euler_parameter_regularization_changes_neither_accelerations_nor_reactions) {
+  std::mt19937 rng(22);
+  for (const char* file : {"tumbling_body.toml", "top_heavy.toml", "rolling_coin.toml"}) {
+    const auto desc = load_model_file(model_path(file));
+    const std::string b = desc->coordinates()[0].substr(0, desc->coordinates()[0].size() - 2);
+    const auto base = desc->instantiate({});
+    const auto zero = desc->instantiate({{b + "_kscale", 0.0}});
+    std::vector<int> rows;
+    for (int i = 0; i < static_cast<int>(base->constraints().size()); ++i) rows.push_back(i);
+    double worst = 0, min_eig_zero = 1e300, min_eig_base = 1e300;
+    for (double scale : {1e-2, 1e2}) {
+      const auto other = desc->instantiate({{b + "_kscale", scale}});
+      mech::Dynamics d1(*base, Kernel::cpp), d2(*other, Kernel::cpp);
+      const auto set1 = mech::ActiveSet::of(*base, rows), set2 = mech::ActiveSet::of(*other, rows);
+      for (int k = 0; k < 20; ++k) {
+        Vector4d e(uniform(rng), uniform(rng), uniform(rng), uniform(rng));
+        e.normalize();
+        const Vector3d r(100 * uniform(rng), 100 * uniform(rng), 0.3 + 0.01 * uniform(rng));
+        const Vector3d v(uniform(rng), uniform(rng), uniform(rng));
+        const Vector3d w(5 * uniform(rng), 5 * uniform(rng), 5 * uniform(rng));
+        const State s = body_state(r, e, v, w);
+        BOOST_REQUIRE(d1.evaluate(set1, 0.0, s.q, s.qd) == mech::ModelIssue::none);
+        BOOST_REQUIRE(d1.solve(mech::ReactionMethod::compatibility) == mech::ModelIssue::none);
+        BOOST_REQUIRE(d2.evaluate(set2, 0.0, s.q, s.qd) == mech::ModelIssue::none);
+        BOOST_REQUIRE(d2.solve(mech::ReactionMethod::compatibility) == mech::ModelIssue::none);
+        worst = std::max(worst, rel_diff(d2.qdd, d1.qdd, 1.0));
+        worst = std::max(worst, rel_diff(d2.R, d1.R, 1.0));
+        Eigen::MatrixXd M(7, 7);
+        Eigen::VectorXd h(7);
+        zero->kinetic_terms(0.0, s.q, s.qd, M, h);
+        min_eig_zero = std::min(min_eig_zero, Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues().minCoeff());
+        base->kinetic_terms(0.0, s.q, s.qd, M, h);
+        const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues();
+        min_eig_base = std::min(min_eig_base, ev.minCoeff() / ev.maxCoeff());
+      }
+    }
+    BOOST_TEST_MESSAGE(file << ": max relative change of q_dd, R with k x 1e-2, x 1e2: " << worst
+                            << "; min eigenvalue of M with k = 0: " << min_eig_zero
+                            << "; min eig/max eig with k: " << min_eig_base);
+    BOOST_TEST(worst < 1e-9);
+    BOOST_TEST(std::abs(min_eig_zero) < 1e-12);
+    BOOST_TEST(min_eig_base > 1e-3);  // positive definite, conditioned like the body's inertia
+  }
+}
+
+// Euler's equations J w_d + w x J w = 0 and e_d = 1/2 G^T w, integrated by RK4 with h = 1e-3
+// (its error is below 1e-11 over the run: halving h changes w by < 1e-11), started at
+// w = (0.15, 3, 0.15) rad/s near the intermediate axis of J = (0.1, 0.2, 0.3): w2 changes sign
+// every ~4 s (the flip). pcsim (rtol = atol = 1e-10) must follow w and e through three flips to
+// 1e-5 (the passages near the unstable axis amplify integration errors), and keep the energy and
+// |H| to 1e-7 relative. Measured: w error 1.9e-5, 3.0e-6, 4.4e-7, 7.2e-8 and energy error 1.8e-7,
+// 3.8e-8, 8.9e-9, 1.7e-9 at rtol = 1e-9 ... 1e-12: the integrator's error, shrinking with rtol
+// (not a model error). The body's centre of mass sits 1000 m from the origin and drifts uniformly.
+BOOST_AUTO_TEST_CASE(tumbling_asymmetric_body_flips_as_eulers_equations_say) {
+  const auto desc = load_model_file(model_path("tumbling_body.toml"));
+  const auto model = desc->instantiate({});
+  const Vector3d J(0.1, 0.2, 0.3);
+  Vector4d e0(0.9, 0.1, 0.3, 0.2);
+  e0.normalize();
+  const Vector3d wb0(0.15, 3.0, 0.15);
+  const State s0 = body_state(Vector3d(1000, -800, 500), e0, Vector3d(0.3, -0.2, 0.1),
+                              A_of(e0) * wb0);
+  // The oracle on a grid of 0.01 s.
+  using Y = Eigen::Matrix<double, 7, 1>;
+  auto f = [&](const Y& y) {
+    const Vector3d w = y.head<3>();
+    const Vector4d e = y.tail<4>();
+    Y d;
+    d.head<3>() = -(w.cross(J.cwiseProduct(w))).cwiseQuotient(J);
+    d.tail<4>() = 0.5 * G_of(e).transpose() * w;
+    return d;
+  };
+  const double t_end = 13.0, grid = 0.01;
+  const int n_grid = static_cast<int>(std::lround(t_end / grid));
+  std::vector<Y> oracle(n_grid + 1);
+  Y y;
+  y << wb0, e0;
+  oracle[0] = y;
+  const int sub = 10;
+  const double h = grid / sub;
+  int flips = 0;
+  for (int k = 1; k <= n_grid; ++k) {
+    for (int j = 0; j < sub; ++j) {
+      const Y k1 = f(y), k2 = f(y + 0.5 * h * k1), k3 = f(y + 0.5 * h * k2), k4 = f(y + h * k3);
+      y += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    }
+    if (y[1] * oracle[k - 1][1] < 0) ++flips;
+    oracle[k] = y;
+  }
+  BOOST_TEST_REQUIRE(flips >= 3);
+  const double E0 = 0.5 * wb0.dot(J.cwiseProduct(wb0)) + 0.5 * 2.0 * s0.qd.head<3>().squaredNorm();
+  const double H0 = J.cwiseProduct(wb0).norm();
+  mech::SimulationOptions o;
+  o.t_end = t_end;
+  o.rtol = o.atol = 1e-10;
+  o.kernel = Kernel::cpp;
+  o.active_constraints = all_constraints(*model);
+  double err_w = 0, err_e = 0, err_E = 0, err_H = 0, err_r = 0;
+  int next = 0, pcsim_flips = 0;
+  double prev_w2 = wb0[1];
+  const mech::SimulationResult r = mech::simulate(*model, s0.q, s0.qd, o, [&](const mech::StepView& v) {
+    while (next <= n_grid && next * grid <= v.t + 1e-12) {
+      const mech::Sample s = v.at(std::max(v.t_prev, next * grid));
+      const Y& yo = oracle[next];
+      // outputs: w1 w2 w3 H1 H2 H3 H energy
+      err_w = std::max(err_w, (s.derived.head<3>() - yo.head<3>()).cwiseAbs().maxCoeff());
+      err_e = std::max(err_e, (s.q.tail<4>() - yo.tail<4>()).cwiseAbs().maxCoeff());
+      err_E = std::max(err_E, std::abs(s.derived[7] - E0) / E0);
+      err_H = std::max(err_H, std::abs(s.derived[6] - H0) / H0);
+      const Vector3d rc = s0.q.head<3>() + s.t * s0.qd.head<3>();
+      err_r = std::max(err_r, (s.q.head<3>() - rc).cwiseAbs().maxCoeff());
+      if (s.derived[1] * prev_w2 < 0) ++pcsim_flips;
+      prev_w2 = s.derived[1];
+      ++next;
+    }
+    return true;
+  });
+  BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+  BOOST_TEST_MESSAGE("tumbling body: " << flips << " flips (oracle), " << pcsim_flips
+                     << " (pcsim); max error w " << err_w << " rad/s, e " << err_e
+                     << ", energy rel " << err_E << ", |H| rel " << err_H << ", r " << err_r << " m");
+  BOOST_TEST(next == n_grid + 1);
+  BOOST_TEST(pcsim_flips == flips);
+  BOOST_TEST(err_w < 1e-5);
+  BOOST_TEST(err_e < 1e-5);
+  BOOST_TEST(err_E < 1e-7);
+  BOOST_TEST(err_H < 1e-7);
+  BOOST_TEST(err_r < 1e-7);
+}
+
+// The heavy symmetric top (J1 = J2 = 0.005, J3 = 0.008 kg m^2 about the centre of mass, m = 1 kg,
+// l = 0.1 m, pivot at (500, -300, 100) m) started in steady precession: nutation angle theta =
+// 0.5 rad, axial spin w3 = 40 rad/s, precession Omega the slow root of
+// I1 cos(theta) Omega^2 - I3 w3 Omega + m g l = 0 (I1 = J1 + m l^2 about the pivot, I3 = J3),
+// ~3.6 rad/s. Over 4 precession turns (~7 s) the axis must stay at theta and turn at Omega:
+// k(t) = (sin(theta) sin(Omega t), -sin(theta) cos(Omega t), cos(theta)) to 1e-6, the
+// precession output at Omega to 1e-6 relative, and the spin at w3 to 1e-6 relative.
+BOOST_AUTO_TEST_CASE(heavy_symmetric_top_precesses_at_the_closed_form_rate) {
+  const auto desc = load_model_file(model_path("top_heavy.toml"));
+  const Vector3d P(500, -300, 100);
+  const auto model = desc->instantiate({{"X0", P[0]}, {"Y0", P[1]}, {"Z0", P[2]}});
+  const double m = 1.0, l = 0.1, g = 9.81, J1 = 0.005, J3 = 0.008;
+  const double theta = 0.5, w3 = 40.0, I1 = J1 + m * l * l, I3 = J3;
+  const double a = I1 * std::cos(theta), bq = -I3 * w3, c = m * g * l;
+  const double Omega = (-bq - std::sqrt(bq * bq - 4 * a * c)) / (2 * a);
+  const Vector4d e0(std::cos(theta / 2), std::sin(theta / 2), 0, 0);  // about x by theta
+  const Vector3d k0(0, -std::sin(theta), std::cos(theta));
+  BOOST_REQUIRE((A_of(e0).col(2) - k0).norm() < 1e-15);
+  const Vector3d w = Omega * Vector3d::UnitZ() + (w3 - Omega * std::cos(theta)) * k0;
+  const State s0 = body_state(P + l * k0, e0, w.cross(l * k0), w);
+  mech::SimulationOptions o;
+  o.t_end = 4 * 2 * M_PI / Omega;
+  o.rtol = o.atol = 1e-10;
+  o.kernel = Kernel::cpp;
+  o.active_constraints = all_constraints(*model);
+  double err_k = 0, err_prec = 0, err_spin = 0, err_E = 0;
+  const double E0 = 0.5 * m * s0.qd.head<3>().squaredNorm() +
+                    0.5 * (J1 * (w.squaredNorm() - std::pow(w.dot(k0), 2)) + J3 * std::pow(w.dot(k0), 2)) +
+                    m * g * s0.q[2];
+  const mech::SimulationResult r = mech::simulate(*model, s0.q, s0.qd, o, [&](const mech::StepView& v) {
+    const mech::Sample& s = v.sample(v.t);
+    const double t = s.t;
+    const Vector3d k(std::sin(theta) * std::sin(Omega * t), -std::sin(theta) * std::cos(Omega * t),
+                     std::cos(theta));
+    // outputs: kx ky kz spin precession energy
+    err_k = std::max(err_k, (s.derived.head<3>() - k).cwiseAbs().maxCoeff());
+    err_spin = std::max(err_spin, std::abs(s.derived[3] - w3) / w3);
+    err_prec = std::max(err_prec, std::abs(s.derived[4] - Omega) / Omega);
+    err_E = std::max(err_E, std::abs(s.derived[5] - E0) / std::abs(E0));
+    return true;
+  });
+  BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+  BOOST_TEST_MESSAGE("heavy top: Omega " << Omega << " rad/s, t_end " << o.t_end << " s; max error axis "
+                     << err_k << ", precession rel " << err_prec << ", spin rel " << err_spin
+                     << ", energy rel " << err_E);
+  BOOST_TEST(err_k < 1e-6);
+  BOOST_TEST(err_prec < 1e-6);
+  BOOST_TEST(err_spin < 1e-6);
+  BOOST_TEST(err_E < 1e-8);
+}
+
+// A coin (r = 0.05 m, thin disk) leaning into the turn by beta = 0.3 rad, its centre on a circle
+// of radius Rc = 0.5 m: Newton-Euler in the frame turning with the heading (docs/bodies-spatial.md)
+// gives Omega^2 = g tan(beta) / (3 Rc/2 + r sin(beta)/4) and the spin about its axis
+// s = Omega (Rc/r + sin(beta)). Started there, 2 km from the origin, over 3 full turns of the
+// heading (~9 s; the spin angle turns ~30 times) the centre must stay on the circle, at the
+// closed-form angle, to 1e-6 m, the tilt at beta to 1e-6, and the energy to 1e-8 relative.
+BOOST_AUTO_TEST_CASE(rolling_coin_rolls_steadily_on_the_closed_form_circle) {
+  const auto desc = load_model_file(model_path("rolling_coin.toml"));
+  const auto model = desc->instantiate({});
+  const double m = 0.1, rr = 0.05, g = 9.81, beta = 0.3, Rc = 0.5;
+  const double Omega = std::sqrt(g * std::tan(beta) / (1.5 * Rc + rr * std::sin(beta) / 4));
+  const double spin = Omega * (Rc / rr + std::sin(beta));
+  // Body axes in ground: x along the heading (ground x), z the disk's axis (0, cos b, -sin b),
+  // y = z x x: a rotation about ground x by gamma = -pi/2 - beta.
+  const double gamma = -M_PI / 2 - beta;
+  const Vector4d e0(std::cos(gamma / 2), std::sin(gamma / 2), 0, 0);
+  const Vector3d kax(0, std::cos(beta), -std::sin(beta));
+  BOOST_REQUIRE((A_of(e0).col(2) - kax).norm() < 1e-15);
+  const Vector3d Pc(2000, 1000, 0);
+  const Vector3d d(0, std::sin(beta), std::cos(beta));  // contact -> centre, unit
+  const Vector3d C0 = Pc + rr * d;
+  const Vector3d w = Omega * Vector3d::UnitZ() + spin * kax;
+  const Vector3d vC = w.cross(rr * d);
+  BOOST_REQUIRE(std::abs(vC[0] - Omega * Rc) < 1e-12 && vC.tail<2>().norm() < 1e-12);
+  const Vector3d O = C0 + Vector3d(0, Rc, 0);  // the centre of the centre's circle
+  const State s0 = body_state(C0, e0, vC, w);
+  const double E0 = 0.5 * m * vC.squaredNorm() +
+                    0.5 * (m * rr * rr / 4 * (w.squaredNorm() - std::pow(w.dot(kax), 2)) +
+                           m * rr * rr / 2 * std::pow(w.dot(kax), 2)) + m * g * C0[2];
+  mech::SimulationOptions o;
+  o.t_end = 3 * 2 * M_PI / Omega;
+  o.rtol = o.atol = 1e-10;
+  o.kernel = Kernel::cpp;
+  o.active_constraints = all_constraints(*model);
+  double err_c = 0, err_tilt = 0, err_E = 0, res = 0;
+  const mech::SimulationResult r = mech::simulate(*model, s0.q, s0.qd, o, [&](const mech::StepView& v) {
+    const mech::Sample& s = v.sample(v.t);
+    const double t = s.t;
+    const Vector3d C = O + Rc * Vector3d(std::sin(Omega * t), -std::cos(Omega * t), 0) +
+                       Vector3d(0, 0, C0[2] - O[2]);
+    err_c = std::max(err_c, (s.q.head<3>() - C).cwiseAbs().maxCoeff());
+    // outputs: tilt px py energy; tilt = asin(n_z) = -beta
+    err_tilt = std::max(err_tilt, std::abs(s.derived[0] + beta));
+    err_E = std::max(err_E, std::abs(s.derived[3] - E0) / E0);
+    res = std::max(res, s.residual_vel);
+    return true;
+  });
+  BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+  BOOST_TEST_MESSAGE("rolling coin: Omega " << Omega << " rad/s, spin " << spin << " rad/s, t_end "
+                     << o.t_end << " s; max error centre " << err_c << " m, tilt " << err_tilt
+                     << " rad, energy rel " << err_E << ", residual_vel " << res);
+  BOOST_TEST(err_c < 1e-6);
+  BOOST_TEST(err_tilt < 1e-6);
+  BOOST_TEST(err_E < 1e-8);
+}
