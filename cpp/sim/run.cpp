@@ -171,7 +171,7 @@ class Monitor {
   }
 
   // The window's allowance of evaluations for the exact refinement (see window()).
-  static constexpr long kInitialEvaluations = 4000, kEvaluationsPerStep = 16;
+  static constexpr long kInitialEvaluations = 1000, kEvaluationsPerStep = 16;
   long allowance_ = kInitialEvaluations;
   std::vector<int> grid_;
   std::vector<double> sc_, fg_;
