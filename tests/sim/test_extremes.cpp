@@ -152,8 +152,8 @@ BOOST_AUTO_TEST_CASE(value_convergence_stops_the_refinement_without_losing_the_p
 
 // The bounded-cost refinement (refine_max_on_grid, no evaluations): a smooth peak anywhere in
 // the step, sampled on M+1 = 33 points over a step of 1/5 of its period (the steps the chain
-// takes), is found to the quartic's error, far below the grid's own (2e-4 of
-// the amplitude, 1e-4): here to 1e-9 of the amplitude (above or below); a peak beyond the step
+// takes), is found to the quartic's error, far below the grid's own (2e-4 of the
+// amplitude): here to 1e-9 of the amplitude (above or below); a peak beyond the step
 // leaves the end sample; and a kink (|sin| through zero) is never overshot.
 BOOST_AUTO_TEST_CASE(grid_refinement_finds_a_smooth_peak_and_never_overshoots_a_kink) {
   constexpr int M = 32;
