@@ -18,7 +18,8 @@ namespace {
 // or one of the two integers next to v 10^-k lies inside. The result is the digits std::to_chars
 // prints (shortest, then closest to v, then even), formatted as it does: fixed or scientific,
 // whichever is shorter, fixed on a tie. tests/common/test_format checks it against
-// std::to_chars bit for bit on millions of doubles; bench/bench_format measures it.
+// std::to_chars character for character on about a million doubles (bench_format --verify N
+// on as many more as wanted); bench/bench_format measures it.
 
 struct G128 {
   std::uint64_t g1, g0;  // g = g1 2^63 + g0, 2^125 <= g < 2^126
