@@ -122,3 +122,70 @@ inline void refine_max_if_promising(const std::vector<double>& s, const std::vec
 }
 
 }  // namespace pcsim::sim
+
+namespace pcsim::sim {
+
+/// Whether the samples f(s_0..s_K) promise a maximum above best.value (the test of
+/// refine_max_if_promising): the best sample exceeds it, or the parabola through the best sample
+/// and its neighbours peaks within its own rise of it.
+inline bool max_promising(const double* s, const double* f, int K, const RunningMax& best) {
+  int i = 0;
+  for (int k = 1; k <= K; ++k)
+    if (f[k] > f[i]) i = k;
+  if (f[i] > best.value || !std::isfinite(f[i])) return true;
+  const int c = (i == 0) ? 1 : (i == K ? K - 1 : i);
+  const double p = parabola_peak(s[c - 1], f[c - 1], s[c], f[c], s[c + 1], f[c + 1]);
+  return std::isfinite(p) && p + (p - f[i]) > best.value;
+}
+
+/// The maximum of samples f_0..f_M of a smooth signal on the equispaced grid s_j = s_0 + j d,
+/// offered to `best` without evaluating anything: the best sample, then the peak of the quartic
+/// through the five samples around it, where that peak lies within a grid interval of the best
+/// sample (an interior maximum, found by Newton's method on the quartic's derivative) and rises
+/// above the best sample by no more than the samples vary around it (else, at a kink or where
+/// the quartic does not fit the signal, the best sample stands). The quartic's error is of the
+/// order of d^5 times the signal's fifth derivative: the bounded-cost monitor's refinement.
+inline void refine_max_on_grid(const double* s, const double* f, int M, RunningMax& best) {
+  int i = 0;
+  for (int k = 1; k <= M; ++k)
+    if (f[k] > f[i]) i = k;
+  best.offer(f[i], s[i]);
+  if (!std::isfinite(f[i]) || M < 4) return;
+  const int j0 = std::min(std::max(i - 2, 0), M - 4);
+  // p(u) = f_j0 + u D1 + u(u-1)/2 D2 + u(u-1)(u-2)/6 D3 + u(u-1)(u-2)(u-3)/24 D4 (forward
+  // differences), x = s_j0 + u d.
+  const double* g = f + j0;
+  for (int k = 0; k < 5; ++k)
+    if (!std::isfinite(g[k])) return;
+  const double D1 = g[1] - g[0], D2 = g[2] - 2 * g[1] + g[0], D3 = g[3] - 3 * g[2] + 3 * g[1] - g[0],
+               D4 = g[4] - 4 * g[3] + 6 * g[2] - 4 * g[1] + g[0];
+  // Monomial coefficients of p(u) = c0 + c1 u + c2 u^2 + c3 u^3 + c4 u^4.
+  const double c1 = D1 - D2 / 2 + D3 / 3 - D4 / 4, c2 = D2 / 2 - D3 / 2 + 11 * D4 / 24,
+               c3 = D3 / 6 - D4 / 4, c4 = D4 / 24;
+  // A smooth signal on a fine grid has differences falling by the grid's ratio to the signal's
+  // scale with each order; a kink (|R_s| through zero) or noise does not: the best sample stands.
+  if (!(std::abs(D3) + std::abs(D4) <= 0.5 * std::abs(D2))) return;
+  auto p = [&](double u) { return g[0] + u * (c1 + u * (c2 + u * (c3 + u * c4))); };
+  const double ui = i - j0;
+  const double lo = std::max(ui - 1, 0.0), hi = std::min(ui + 1, 4.0);
+  double u = ui;
+  // Start from the parabola through the best sample and its neighbours (inside the grid).
+  const int c = (i == 0) ? 1 : (i == M ? M - 1 : i);
+  const double vtx = parabola_vertex(c - 1, f[c - 1], c, f[c], c + 1, f[c + 1]);
+  if (std::isfinite(vtx)) u = std::min(std::max(vtx - j0, lo), hi);
+  for (int it = 0; it < 8; ++it) {
+    const double d1 = c1 + u * (2 * c2 + u * (3 * c3 + u * 4 * c4));
+    const double d2 = 2 * c2 + u * (6 * c3 + u * 12 * c4);
+    if (!(d2 < 0)) return;  // not a maximum of the quartic
+    const double step = d1 / d2;
+    u -= step;
+    if (!(u > lo && u < hi)) return;  // the quartic's peak is beyond the bracket
+    if (std::abs(step) < 1e-12) break;
+  }
+  const double value = p(u);
+  const double left = i > 0 ? f[i - 1] : f[i + 1], right = i < M ? f[i + 1] : f[i - 1];
+  const double spread = f[i] - std::min(left, right);
+  if (value >= f[i] && value - f[i] <= spread) best.offer(value, s[j0] + u * (s[1] - s[0]));
+}
+
+}  // namespace pcsim::sim

@@ -1,5 +1,6 @@
 #include "sim/row_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/format.hpp"
@@ -54,16 +55,25 @@ void RowWriter::work() {
     if (error_) continue;  // drain after a failure
     try {
       std::string& text = out_.buffer();
+      // A row is formatted into line_ (room for every field at its longest) and appended whole.
+      std::size_t room = static_cast<std::size_t>(columns_) * (kMaxNumberChars + 1) + 1;
+      for (const auto& l : labels_) room += static_cast<std::size_t>(label_columns_) * l.size();
+      if (line_.size() < room) line_.resize(room);
+      const int numbers = columns_ - label_columns_;
       for (std::size_t i = 0; i < rows.size(); i += static_cast<std::size_t>(columns_)) {
+        const double* row = rows.data() + i;
+        char* p = line_.data();
         for (int j = 0; j < columns_; ++j) {
-          if (j) text += ',';
-          const double v = rows[i + static_cast<std::size_t>(j)];
-          if (j >= columns_ - label_columns_)
-            text += labels_.at(static_cast<std::size_t>(v));
-          else
-            append_csv_number(text, v);  // an undefined value (f* in flight) is an empty field
+          if (j) *p++ = ',';
+          if (j >= numbers) {
+            const std::string& l = labels_.at(static_cast<std::size_t>(row[j]));
+            p = std::copy(l.begin(), l.end(), p);
+          } else {
+            p = write_csv_number(p, row[j]);  // an undefined value (f* in flight) is an empty field
+          }
         }
-        text += '\n';
+        *p++ = '\n';
+        text.append(line_.data(), p);
       }
       out_.maybe_flush();
     } catch (...) {

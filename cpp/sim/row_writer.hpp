@@ -48,6 +48,7 @@ class RowWriter {
   std::deque<std::vector<double>> queue_;
   bool done_ = false;
   std::exception_ptr error_;
+  std::vector<char> line_;  // the writer thread's row text
   std::thread thread_;
 };
 
