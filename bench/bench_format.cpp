@@ -1,7 +1,7 @@
 // The time-series formatter, old against new in the same process: std::to_chars appended field
 // by field to a std::string (the writer before issue 23) against common/format.hpp's
 // write_number into a row buffer appended once per row (the writer now). Both produce the same
-// bytes (checked here on every row, and in tests/common/test_format against std::to_chars).
+// bytes (checked here on every row, and tests/common/test_format checks round trip and shortness).
 // Data: rows shaped as the sieve's (22 columns: a time on a 1e-3 grid, zeros, a constant, and
 // smooth signals of magnitudes 1e-19..1e2), and numbers uniform in their bits' logarithm.
 // Usage: bench_format [--verify N]   (N random doubles checked against std::to_chars, no timing)

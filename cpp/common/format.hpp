@@ -12,13 +12,12 @@ std::string format_number(double v);
 /// Appends format_number(v) to out without a temporary string.
 void append_number(std::string& out, double v);
 
-/// The room write_number needs at p: the longest number is 24 characters
-/// ("-2.2250738585072014e-308"), but it copies digits in fixed-size blocks past the end.
+/// The room write_number needs at p (the longest number is 24 characters,
+/// "-2.2250738585072014e-308").
 constexpr int kMaxNumberChars = 48;
 
-/// Writes format_number(v) at p (room for kMaxNumberChars) and returns the end: the same
-/// characters as std::to_chars(p, p + kMaxNumberChars, v), with 1.5x fewer instructions (the
-/// time-series writer's hot path; bench/bench_format).
+/// Writes format_number(v) at p (room for kMaxNumberChars) and returns the end, with no
+/// allocation (the time-series writer's hot path: it formats whole rows into one buffer).
 char* write_number(char* p, double v);
 
 /// A number as a CSV field: format_number(v) if v is finite, else an empty field. A value that
