@@ -353,6 +353,26 @@ ModelIssue Dynamics::solve_compatibility_structured() {
   if (s_ == 0) {
     // No constraint: q̈ = M⁻¹ f.
   }
+  used_sparse = n_ >= sparse_min_n;
+  if (used_sparse) {
+    switch (sparse_.solve(M, g, f, gamma, kSwitch, G0, lambda, R, qdd)) {
+      case SparseCompatibility::Outcome::solved:
+        rank = s_;
+        rank_revealing = false;
+        return ModelIssue::none;
+      case SparseCompatibility::Outcome::singular_mass:
+        // The dense criterion decides (its message names the coordinates); where it accepts
+        // M after all (another pivot order), the dense kernel below solves.
+        if (factorize_mass() != ModelIssue::none) return fail(ModelIssue::singular_mass_matrix, message_);
+        used_sparse = false;
+        break;
+      case SparseCompatibility::Outcome::dependent_rows:
+        return solve_rank_revealing();
+      case SparseCompatibility::Outcome::not_sparse:
+        used_sparse = false;
+        break;
+    }
+  }
   // Compile-time sizes for the common small models (the loops unroll), run-time otherwise.
   bool ok;
   auto by_s = [this](auto n_tag) {
