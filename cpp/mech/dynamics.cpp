@@ -120,7 +120,10 @@ ModelIssue Dynamics::evaluate(const ActiveSet& active, double t, const Eigen::Ve
                 "the generalized forces Q (-dV/dq - dF/dqd + applied) are not finite" + at() +
                     " (coordinate " + coordinate_list(*model_, Q, INFINITY) + ")");
   }
-  for (int r = 0; r < s_; ++r) {
+  // One contiguous pass over g first (a row-wise pass strides through the column-major
+  // s x n matrix: costly for large models); the row is looked for only on failure.
+  const bool rows_finite = g.allFinite() && g0.allFinite() && gamma.allFinite();
+  for (int r = 0; r < s_ && !rows_finite; ++r) {
     if (!g.row(r).allFinite() || !std::isfinite(g0[r]) || !std::isfinite(gamma[r])) {
       return fail(ModelIssue::non_finite, "constraint '" + model_->constraints()[active.rows()[r]].name +
                                               "' gives a non-finite row g, g0 or gamma" + at());

@@ -144,6 +144,7 @@ class Dynamics {
   int sparse_min_n = kSparseMinN;
   /// True if the last structured solve ran on the sparse path.
   bool used_sparse = false;
+  const SparseCompatibility& sparse_solver() const { return sparse_; }
   /// After evaluate(): the rows (indices into the active set) that a column-pivoted QR of the
   /// row-scaled gᵀ leaves outside its first `numerical_rank` pivots: the dependent rows named in
   /// messages and rank reports.
