@@ -66,6 +66,17 @@ void chain_state(int N, double L, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
   }
 }
 
+// The chain's mechanical energy (m = 1 kg, L = 0.1 m, g = 9.81 m/s², J = m L²/12).
+double chain_energy(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  const double m = 1.0, L = 0.1, g = 9.81, J = m * L * L / 12;
+  double E = 0;
+  for (int i = 0; i < q.size() / 3; ++i) {
+    E += 0.5 * m * (qd[3 * i] * qd[3 * i] + qd[3 * i + 1] * qd[3 * i + 1]) +
+         0.5 * J * qd[3 * i + 2] * qd[3 * i + 2] + m * g * q[3 * i + 1];
+  }
+  return E;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -78,9 +89,9 @@ int main(int argc, char** argv) {
   std::vector<double> n_values, t_model, t_rhs, t_dense, t_step;
   std::printf("Pendulum chains (L = 0.1 m links), CPU time; run: %g s, rtol = atol = 1e-8, cpp "
               "kernels, default engine options\n", t_end);
-  std::printf("%4s %5s %4s %9s %9s | %10s %10s %10s | %6s %7s %13s %7s\n", "N", "n", "s",
-              "load [s]", "tape ins", "model [us]", "RHS [us]", "dense [us]", "steps",
-              "f-evals", "per step [ms]", "f/step");
+  std::printf("%4s %5s %4s %9s %9s | %10s %10s %10s | %6s %7s %13s %7s %12s %9s\n", "N", "n",
+              "s", "load [s]", "tape ins", "model [us]", "RHS [us]", "dense [us]", "steps",
+              "f-evals", "per step [ms]", "f/step", "per sim s [s]", "|dE| [J]");
   for (int N : sizes) {
     const std::string text = modelfile::testing::pendulum_chain_toml(N);
     const double c0 = process_cpu_seconds();
@@ -120,10 +131,14 @@ int main(int argc, char** argv) {
     const mech::SimulationResult r = mech::simulate(*model, q, qd, o);
     const double run = process_cpu_seconds() - c1;
     const double per_step = run / std::max(1L, r.stats.accepted);
-    std::printf("%4d %5d %4d %9.3f %9zu | %10.2f %10.1f %10.1f | %6ld %7ld %13.2f %7.1f %s\n", N,
-                n, s, load, desc->compiled().tape.instruction_count(), tm * 1e6, tr * 1e6,
+    const double dE = r.q_end.size() == n ? std::abs(chain_energy(r.q_end, r.qd_end) -
+                                                     chain_energy(q, qd))
+                                          : NAN;
+    std::printf("%4d %5d %4d %9.3f %9zu | %10.2f %10.1f %10.1f | %6ld %7ld %13.2f %7.1f %12.3f %9.2e %s\n",
+                N, n, s, load, desc->compiled().tape.instruction_count(), tm * 1e6, tr * 1e6,
                 td * 1e6, r.stats.accepted, r.stats.f_evals, per_step * 1e3,
                 static_cast<double>(r.stats.f_evals) / std::max(1L, r.stats.accepted),
+                run / t_end, dE,
                 r.status == mech::SimulationStatus::success ? "" : r.message.c_str());
     n_values.push_back(n);
     t_model.push_back(tm);
@@ -131,7 +146,7 @@ int main(int argc, char** argv) {
     t_dense.push_back(td);
     t_step.push_back(per_step);
   }
-  std::printf("\nobserved exponents p (cost ~ n^p, least squares over N = 5..40):\n");
+  std::printf("\nobserved exponents p (cost ~ n^p, least squares over the sizes run):\n");
   std::printf("  model evaluation (tape, M filled densely)  p = %.2f\n", exponent(n_values, t_model));
   std::printf("  one right-hand side, structured solve       p = %.2f\n", exponent(n_values, t_rhs));
   std::printf("  one right-hand side, dense [G; D^T] + Huang p = %.2f\n", exponent(n_values, t_dense));

@@ -141,9 +141,6 @@ class Dynamics {
   /// faster (crossover measured with bench_modelfile_chain: see the README). Tests set it to 0 to
   /// compare the two paths on small models.
   static constexpr int kSparseMinN = 60;
-  int sparse_min_n = kSparseMinN;
-  /// True if the last structured solve ran on the sparse path.
-  bool used_sparse = false;
   const SparseCompatibility& sparse_solver() const { return sparse_; }
   /// After evaluate(): the rows (indices into the active set) that a column-pivoted QR of the
   /// row-scaled gᵀ leaves outside its first `numerical_rank` pivots: the dependent rows named in
@@ -164,6 +161,7 @@ class Dynamics {
   ModelIssue solve_compatibility();
   ModelIssue solve_compatibility_structured();
   template <int N, int NS> bool structured_kernel();
+  bool solve_sparse_structured(ModelIssue& issue);
   bool singular_s_ = false;
   ModelIssue solve_kkt();
   ModelIssue solve_udwadia_kalaba();
@@ -191,6 +189,11 @@ class Dynamics {
   Eigen::MatrixXd MinvgT_;  // M⁻¹ gᵀ (n x s)
   Eigen::VectorXd a0_, rhs_, tmp_;
   SparseCompatibility sparse_;
+
+ public:
+  // Last in the class: the members before keep their offsets (the small models' kernels).
+  int sparse_min_n = kSparseMinN;  ///< the sparse path from this many coordinates (see above)
+  bool used_sparse = false;        ///< true if the last structured solve ran on the sparse path
 };
 
 /// "coordinate 'x'" style names for messages.
