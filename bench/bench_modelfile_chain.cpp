@@ -117,6 +117,16 @@ int main(int argc, char** argv) {
       dyn.evaluate(as, 0.0, q, qd);
       dyn.solve(mech::ReactionMethod::compatibility_structured);
     }, 0.3);
+    // The other structured path (dense kernel where the default is sparse, and vice versa):
+    // the crossover kSparseMinN is where the two columns cross.
+    mech::Dynamics other(*model, Kernel::cpp);
+    other.sparse_min_n = n >= mech::Dynamics::kSparseMinN ? 1 << 30 : 0;
+    const double to = n > 300 ? NAN : seconds_per_call([&] {
+      other.evaluate(as, 0.0, q, qd);
+      other.solve(mech::ReactionMethod::compatibility_structured);
+    }, 0.3);
+    std::printf("     (N = %d: the %s structured path: %.1f us per RHS)\n", N,
+                n >= mech::Dynamics::kSparseMinN ? "dense" : "sparse", to * 1e6);
     const double td = n > 300 ? NAN : seconds_per_call([&] {
       dyn.evaluate(as, 0.0, q, qd);
       dyn.solve(mech::ReactionMethod::compatibility);
