@@ -6,7 +6,9 @@
 // with the Huang null-space basis), and of one integration step (a short mech::simulate with
 // the default options, CPU time per accepted step, Jacobians included); then the exponent p of
 // cost ~ n^p fitted by least squares on log-log, n = 3N. Not a test: prints numbers.
-// Usage: bench_modelfile_chain [t_end (default 0.01 s)]
+// Usage: bench_modelfile_chain [t_end (default 0.01 s)] [N ...] (default N = 5 10 20 40); the
+// dense [G; D^T] solve is timed only for n <= 300 (its O(n^3) cost at n = 3000 takes minutes).
+// The step is timed with the method `pcsim run` uses by default (auto: explicit until stiff).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -34,8 +36,10 @@ double seconds_per_call(const std::function<void()>& f, double budget) {
 // Least-squares slope of log(y) against log(x).
 double exponent(const std::vector<double>& x, const std::vector<double>& y) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double k = static_cast<double>(x.size());
+  double k = 0;
   for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(y[i])) continue;
+    k += 1;
     const double lx = std::log(x[i]), ly = std::log(y[i]);
     sx += lx;
     sy += ly;
@@ -62,17 +66,32 @@ void chain_state(int N, double L, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
   }
 }
 
+// The chain's mechanical energy (m = 1 kg, L = 0.1 m, g = 9.81 m/s², J = m L²/12).
+double chain_energy(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  const double m = 1.0, L = 0.1, g = 9.81, J = m * L * L / 12;
+  double E = 0;
+  for (int i = 0; i < q.size() / 3; ++i) {
+    E += 0.5 * m * (qd[3 * i] * qd[3 * i] + qd[3 * i + 1] * qd[3 * i + 1]) +
+         0.5 * J * qd[3 * i + 2] * qd[3 * i + 2] + m * g * q[3 * i + 1];
+  }
+  return E;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const double t_end = argc > 1 ? std::atof(argv[1]) : 0.01;
-  const std::vector<int> sizes = {5, 10, 20, 40};
+  std::vector<int> sizes = {5, 10, 20, 40};
+  if (argc > 2) {
+    sizes.clear();
+    for (int i = 2; i < argc; ++i) sizes.push_back(std::atoi(argv[i]));
+  }
   std::vector<double> n_values, t_model, t_rhs, t_dense, t_step;
   std::printf("Pendulum chains (L = 0.1 m links), CPU time; run: %g s, rtol = atol = 1e-8, cpp "
               "kernels, default engine options\n", t_end);
-  std::printf("%4s %5s %4s %9s %9s | %10s %10s %10s | %6s %7s %13s %7s\n", "N", "n", "s",
-              "load [s]", "tape ins", "model [us]", "RHS [us]", "dense [us]", "steps",
-              "f-evals", "per step [ms]", "f/step");
+  std::printf("%4s %5s %4s %9s %9s | %10s %10s %10s | %6s %7s %13s %7s %12s %9s\n", "N", "n",
+              "s", "load [s]", "tape ins", "model [us]", "RHS [us]", "dense [us]", "steps",
+              "f-evals", "per step [ms]", "f/step", "per sim s [s]", "|dE| [J]");
   for (int N : sizes) {
     const std::string text = modelfile::testing::pendulum_chain_toml(N);
     const double c0 = process_cpu_seconds();
@@ -98,7 +117,17 @@ int main(int argc, char** argv) {
       dyn.evaluate(as, 0.0, q, qd);
       dyn.solve(mech::ReactionMethod::compatibility_structured);
     }, 0.3);
-    const double td = seconds_per_call([&] {
+    // The other structured path (dense kernel where the default is sparse, and vice versa):
+    // the crossover kSparseMinN is where the two columns cross.
+    mech::Dynamics other(*model, Kernel::cpp);
+    other.sparse_min_n = n >= mech::Dynamics::kSparseMinN ? 1 << 30 : 0;
+    const double to = n > 300 ? NAN : seconds_per_call([&] {
+      other.evaluate(as, 0.0, q, qd);
+      other.solve(mech::ReactionMethod::compatibility_structured);
+    }, 0.3);
+    std::printf("     (N = %d: the %s structured path: %.1f us per RHS)\n", N,
+                n >= mech::Dynamics::kSparseMinN ? "dense" : "sparse", to * 1e6);
+    const double td = n > 300 ? NAN : seconds_per_call([&] {
       dyn.evaluate(as, 0.0, q, qd);
       dyn.solve(mech::ReactionMethod::compatibility);
     }, 0.3);
@@ -106,15 +135,20 @@ int main(int argc, char** argv) {
     o.t_end = t_end;
     o.rtol = o.atol = 1e-8;
     o.kernel = Kernel::cpp;
+    o.method = OdeMethod::automatic;
     o.active_constraints = desc->default_active_constraints();
     const double c1 = process_cpu_seconds();
     const mech::SimulationResult r = mech::simulate(*model, q, qd, o);
     const double run = process_cpu_seconds() - c1;
     const double per_step = run / std::max(1L, r.stats.accepted);
-    std::printf("%4d %5d %4d %9.3f %9zu | %10.2f %10.1f %10.1f | %6ld %7ld %13.2f %7.1f %s\n", N,
-                n, s, load, desc->compiled().tape.instruction_count(), tm * 1e6, tr * 1e6,
+    const double dE = r.q_end.size() == n ? std::abs(chain_energy(r.q_end, r.qd_end) -
+                                                     chain_energy(q, qd))
+                                          : NAN;
+    std::printf("%4d %5d %4d %9.3f %9zu | %10.2f %10.1f %10.1f | %6ld %7ld %13.2f %7.1f %12.3f %9.2e %s\n",
+                N, n, s, load, desc->compiled().tape.instruction_count(), tm * 1e6, tr * 1e6,
                 td * 1e6, r.stats.accepted, r.stats.f_evals, per_step * 1e3,
                 static_cast<double>(r.stats.f_evals) / std::max(1L, r.stats.accepted),
+                run / t_end, dE,
                 r.status == mech::SimulationStatus::success ? "" : r.message.c_str());
     n_values.push_back(n);
     t_model.push_back(tm);
@@ -122,7 +156,7 @@ int main(int argc, char** argv) {
     t_dense.push_back(td);
     t_step.push_back(per_step);
   }
-  std::printf("\nobserved exponents p (cost ~ n^p, least squares over N = 5..40):\n");
+  std::printf("\nobserved exponents p (cost ~ n^p, least squares over the sizes run):\n");
   std::printf("  model evaluation (tape, M filled densely)  p = %.2f\n", exponent(n_values, t_model));
   std::printf("  one right-hand side, structured solve       p = %.2f\n", exponent(n_values, t_rhs));
   std::printf("  one right-hand side, dense [G; D^T] + Huang p = %.2f\n", exponent(n_values, t_dense));

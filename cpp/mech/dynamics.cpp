@@ -120,7 +120,10 @@ ModelIssue Dynamics::evaluate(const ActiveSet& active, double t, const Eigen::Ve
                 "the generalized forces Q (-dV/dq - dF/dqd + applied) are not finite" + at() +
                     " (coordinate " + coordinate_list(*model_, Q, INFINITY) + ")");
   }
-  for (int r = 0; r < s_; ++r) {
+  // Large models: one contiguous pass over g first (a row-wise pass strides through the
+  // column-major s x n matrix); the row is looked for only on failure. Small ones: row-wise.
+  const bool rows_finite = n_ >= sparse_min_n && g.allFinite() && g0.allFinite() && gamma.allFinite();
+  for (int r = 0; r < s_ && !rows_finite; ++r) {
     if (!g.row(r).allFinite() || !std::isfinite(g0[r]) || !std::isfinite(gamma[r])) {
       return fail(ModelIssue::non_finite, "constraint '" + model_->constraints()[active.rows()[r]].name +
                                               "' gives a non-finite row g, g0 or gamma" + at());
@@ -345,6 +348,34 @@ bool Dynamics::structured_kernel() {
   return true;
 }
 
+// The sparse structured solve (large models); false: the dense kernel is to solve instead.
+// Out of line: the small models' hot path stays as it was.
+__attribute__((noinline)) bool Dynamics::solve_sparse_structured(ModelIssue& issue) {
+  used_sparse = true;
+  switch (sparse_.solve(M, g, f, gamma, kSwitch, G0, lambda, R, qdd)) {
+    case SparseCompatibility::Outcome::solved:
+      rank = s_;
+      rank_revealing = false;
+      issue = ModelIssue::none;
+      return true;
+    case SparseCompatibility::Outcome::singular_mass:
+      // The dense criterion decides (its message names the coordinates); where it accepts
+      // M after all (another pivot order), the dense kernel solves.
+      if (factorize_mass() != ModelIssue::none) {
+        issue = fail(ModelIssue::singular_mass_matrix, message_);
+        return true;
+      }
+      break;
+    case SparseCompatibility::Outcome::dependent_rows:
+      issue = solve_rank_revealing();
+      return true;
+    case SparseCompatibility::Outcome::not_sparse:
+      break;
+  }
+  used_sparse = false;
+  return false;
+}
+
 ModelIssue Dynamics::solve_compatibility_structured() {
   // [G; Dᵀ] R = [−G0; 0] with the columns of D spanning null(g): Dᵀ R = 0 says R is orthogonal
   // to null(g), i.e. R = gᵀ λ for some λ, and then G R = g M⁻¹ gᵀ λ = −G0. The same R as the
@@ -353,6 +384,11 @@ ModelIssue Dynamics::solve_compatibility_structured() {
   if (s_ == 0) {
     // No constraint: q̈ = M⁻¹ f.
   }
+  if (n_ >= sparse_min_n) {
+    ModelIssue issue;
+    if (solve_sparse_structured(issue)) return issue;
+  }
+  used_sparse = false;
   // Compile-time sizes for the common small models (the loops unroll), run-time otherwise.
   bool ok;
   auto by_s = [this](auto n_tag) {

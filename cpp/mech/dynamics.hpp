@@ -14,6 +14,7 @@
 
 #include "common/kernel.hpp"
 #include "mech/model.hpp"
+#include "mech/sparse_compat.hpp"
 #include "mech/status.hpp"
 
 namespace pcsim::mech {
@@ -148,6 +149,12 @@ class Dynamics {
   /// most (μ/σ)⁴ = 1e-16 relative along that direction: q̈ is continuous to that, and the
   /// formulations agree to 1e-10 (test_reactions) on either side.
   static constexpr double kSwitch = 1e-4;
+  /// The structured solve (compatibility_structured) runs on sparse matrices (SparseCompatibility,
+  /// Eigen's SimplicialLDLT with AMD) from this many coordinates up; below, its dense kernel is
+  /// faster (crossover measured with bench_modelfile_chain: see the README). Tests set it to 0 to
+  /// compare the two paths on small models.
+  static constexpr int kSparseMinN = 60;
+  const SparseCompatibility& sparse_solver() const { return sparse_; }
   /// After evaluate(): the rows (indices into the active set) that a column-pivoted QR of the
   /// row-scaled gᵀ leaves outside its first `numerical_rank` pivots: the dependent rows named in
   /// messages and rank reports.
@@ -176,6 +183,7 @@ class Dynamics {
   ModelIssue solve_compatibility();
   ModelIssue solve_compatibility_structured();
   template <int N, int NS> bool structured_kernel();
+  bool solve_sparse_structured(ModelIssue& issue);
   bool singular_s_ = false;
   ModelIssue solve_kkt();
   ModelIssue solve_udwadia_kalaba();
@@ -202,6 +210,12 @@ class Dynamics {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::MatrixXd MinvgT_;  // M⁻¹ gᵀ (n x s)
   Eigen::VectorXd a0_, rhs_, tmp_;
+  SparseCompatibility sparse_;
+
+ public:
+  // Last in the class: the members before keep their offsets (the small models' kernels).
+  int sparse_min_n = kSparseMinN;  ///< the sparse path from this many coordinates (see above)
+  bool used_sparse = false;        ///< true if the last structured solve ran on the sparse path
 };
 
 /// "coordinate 'x'" style names for messages.

@@ -253,6 +253,12 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
   }
   HuangOptions ho;
   ho.kernel = kernel;
+  // Large sparse models: the sparse minimum-norm solve; Huang's where it declines (dependence).
+  const auto min_norm = [&](const Eigen::MatrixXd& g, const Eigen::VectorXd& b) {
+    HuangResult hr;
+    if (n >= w.sparse_min_n && w.sparse.solve(g, b, hr.x)) return hr;
+    return huang_solve(g, b, ho);
+  };
   const Eigen::VectorXd q_start = q;
   if (!hol.empty()) {
     const int sh = static_cast<int>(hol.size());
@@ -270,7 +276,7 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
                   std::to_string(t);
         return ModelIssue::non_finite;
       }
-      const HuangResult hr = huang_solve(w.g, -phi, ho);
+      const HuangResult hr = min_norm(w.g, -phi);
       if (hr.info < 0) {
         message = "the Huang kernel rejected argument " + std::to_string(-hr.info);
         return ModelIssue::kernel_failure;
@@ -294,7 +300,7 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
   if (const ModelIssue e = velocity_residual_rows(model, active, t, q, qd, w, rv, message);
       e != ModelIssue::none)
     return e;
-  const HuangResult hr = huang_solve(w.g, rv, ho);
+  const HuangResult hr = min_norm(w.g, rv);
   if (hr.info < 0) {
     message = "the Huang kernel rejected argument " + std::to_string(-hr.info);
     return ModelIssue::kernel_failure;

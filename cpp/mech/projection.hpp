@@ -10,13 +10,19 @@
 
 #include "common/kernel.hpp"
 #include "mech/model.hpp"
+#include "mech/dynamics.hpp"
 #include "mech/simulation.hpp"
+#include "mech/sparse_compat.hpp"
 
 namespace pcsim::mech {
 
 struct ProjectionWork {
   Eigen::MatrixXd g;
   Eigen::VectorXd g0, gamma;
+  /// The full-rank minimum-norm solves for n >= Dynamics::kSparseMinN (sparse_min_n) instead of
+  /// Huang's dense kernel (same solution up to rounding); Huang decides where it declines.
+  SparseMinNorm sparse;
+  int sparse_min_n = Dynamics::kSparseMinN;
 };
 
 /// Projects (q, qd) in place. tol: relative Newton tolerance for the position part. On return

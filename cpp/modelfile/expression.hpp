@@ -38,10 +38,13 @@ inline constexpr int tree_depth = 1000;         ///< of an expression with defin
 inline constexpr long exponent = 1000;          ///< |n| of a numeric exponent
 inline constexpr long power_bits = 65536;       ///< bits of an exact power of numbers
 inline constexpr std::size_t name_length = 128;  ///< characters of a declared name
-inline constexpr std::size_t coordinates = 1000;  ///< the dense engine: O(n^3) per step
+/// Coordinates and constraints: the engine solves sparse systems from 60 coordinates up, but
+/// the model interface still fills M (n x n) and g (s x n) densely per evaluation (72 MB and
+/// 48 MB at n = 3000, s = 2000: a chain of 1000 links).
+inline constexpr std::size_t coordinates = 3000;
 inline constexpr std::size_t parameters = 10000;
 inline constexpr std::size_t definitions = 2000;
-inline constexpr std::size_t constraints = 1000;
+inline constexpr std::size_t constraints = 3000;
 inline constexpr std::size_t outputs = 1000;
 }  // namespace limits
 

@@ -352,7 +352,7 @@ ModelSource detail::read_model_source(const toml::table& model,
     fail(src.where, r.key("coordinates"), "a non-empty list of names, e.g. [\"x\", \"y\"]");
   }
   r.count(ca->size(), detail::limits::coordinates, r.key("coordinates"),
-          "coordinates (the mass matrix has n^2 symbolic entries and each step solves it)");
+          "coordinates (M, n x n, and g, s x n, are filled densely at every evaluation)");
   for (const auto& c : *ca) {
     const std::string name = r.string(c, r.key("coordinates"), "a list of names (strings)");
     r.name(name, r.key("coordinates"));

@@ -154,6 +154,19 @@ class Calculus {
 
   std::size_t spent() const { return spent_; }
 
+  // The index of each symbol of `symbols` by name, cached per vector for the life of this
+  // Calculus (one derive(): the symbol vectors of its SymbolicModel are filled before any
+  // query and do not move; a vector of another size is indexed afresh).
+  const std::unordered_map<std::string, int>& index_of(const std::vector<ex>& symbols) {
+    auto& idx = index_cache_[static_cast<const void*>(&symbols)];
+    if (idx.size() != symbols.size()) {
+      idx.clear();
+      for (std::size_t i = 0; i < symbols.size(); ++i)
+        idx.emplace(symbol_name(symbols[i]), static_cast<int>(i));
+    }
+    return idx;
+  }
+
  private:
   using Memo = std::unordered_map<ex, ex, ExHash, GiNaC::ex_is_equal>;
 
@@ -256,17 +269,59 @@ class Calculus {
   std::unordered_map<ex, std::unordered_set<std::string>, ExHash, GiNaC::ex_is_equal> symbols_memo_;
   std::map<std::tuple<unsigned, std::size_t, std::size_t>, ex> partials_;
   std::size_t spent_ = 0;
+  std::map<const void*, std::unordered_map<std::string, int>> index_cache_;
 };
+
+// The index of each symbol of `symbols` by name (Calculus::index_of).
+const std::unordered_map<std::string, int>& index_of(Calculus& calc, const std::vector<ex>& symbols) {
+  return calc.index_of(symbols);
+}
+
+// The indices (ascending) of the symbols of `symbols` that e depends on: found from e's own
+// symbols, so the cost follows the size of e, not the number of coordinates.
+std::vector<int> used_indices(Calculus& calc, const ex& e, const std::vector<ex>& symbols) {
+  const auto& idx = index_of(calc, symbols);
+  std::vector<int> out;
+  for (const std::string& name : calc.symbols(e)) {
+    auto it = idx.find(name);
+    if (it != idx.end()) out.push_back(it->second);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 // The first symbol of `symbols` that e depends on, or -1.
 int first_used(Calculus& calc, const ex& e, const std::vector<ex>& symbols) {
-  const auto& names = calc.symbols(e);
-  for (std::size_t i = 0; i < symbols.size(); ++i) {
-    if (names.count(symbol_name(symbols[i]))) return static_cast<int>(i);
+  const auto& idx = index_of(calc, symbols);
+  int first = -1;
+  for (const std::string& name : calc.symbols(e)) {
+    auto it = idx.find(name);
+    if (it != idx.end() && (first < 0 || it->second < first)) first = it->second;
   }
-  return -1;
+  return first;
 }
 
+// ∂e/∂v_k for every symbol v_k of `vars` that e depends on (the others are 0), as (k, ∂e/∂v_k)
+// in ascending k: the same expressions as calc.diff(e, v_k). A sum (an energy: a term per body)
+// is differentiated term by term, each term only by the symbols it contains, so the work is
+// proportional to the size of e, not to its size times the number of symbols.
+std::vector<std::pair<int, ex>> gradient(Calculus& calc, const ex& e, const std::vector<ex>& vars) {
+  std::vector<std::pair<int, ex>> out;
+  if (GiNaC::is_a<GiNaC::add>(e) && !is_group(e)) {
+    std::map<int, GiNaC::exvector> terms;  // k -> the nonzero ∂term/∂v_k, in term order
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const ex term = e.op(i);
+      for (int k : used_indices(calc, term, vars)) {
+        const ex dt = calc.diff(term, vars[k]);
+        if (!dt.is_zero()) terms[k].push_back(dt);
+      }
+    }
+    for (auto& [k, list] : terms) out.emplace_back(k, ex(GiNaC::dynallocate<GiNaC::add>(std::move(list))));
+    return out;
+  }
+  for (int k : used_indices(calc, e, vars)) out.emplace_back(k, calc.diff(e, vars[k]));
+  return out;
+}
 
 // Definitions in an order where each comes after the ones it uses; a cycle is an error.
 std::vector<std::size_t> definition_order(const ModelSource& src) {
@@ -304,7 +359,7 @@ std::vector<std::size_t> definition_order(const ModelSource& src) {
 // γ of a row w = g q̇ + g0 (q̇ held fixed): Σ_l ∂w/∂q_l q̇_l + ∂w/∂t.
 ex along_motion(Calculus& calc, const ex& w, const SymbolicModel& m) {
   ex out = calc.diff(w, m.t);
-  for (int l = 0; l < m.n; ++l) out += calc.diff(w, m.q[l]) * m.qd[l];
+  for (int l : used_indices(calc, w, m.q)) out += calc.diff(w, m.q[l]) * m.qd[l];
   return out;
 }
 
@@ -503,10 +558,24 @@ SymbolicModel derive(const ModelSource& src) {
   };
   std::unordered_map<std::string, int> velocity_index;
   for (int l = 0; l < n; ++l) velocity_index[symbol_name(m.qd[l])] = l;
+  // Term by term and only over the symbols each term contains (gradient()): the work grows
+  // with the size of T, V and F, not with n times it.
+  std::vector<ex> p(n, ex(0)), dTq(n, ex(0)), dV(n, ex(0)), dF(n, ex(0));
+  within_budget(src.kinetic, [&] {
+    for (auto& [j, pj] : gradient(calc, m.T, m.qd)) p[j] = pj;
+    for (auto& [j, d] : gradient(calc, m.T, m.q)) dTq[j] = d;
+  });
+  within_budget(src.potential, [&] {
+    for (auto& [j, d] : gradient(calc, m.V, m.q)) dV[j] = d;
+  });
+  within_budget(src.dissipation, [&] {
+    for (auto& [j, d] : gradient(calc, m.F, m.qd)) dF[j] = d;
+  });
   for (int j = 0; j < n; ++j) within_budget(src.kinetic, [&] {
-    const ex p = calc.diff(m.T, m.qd[j]);
-    for (int k = j; k < n; ++k) {
-      const ex Mjk = calc.diff(p, m.qd[k]);
+    // M_jk (k >= j) for the velocities p_j mentions (the others are 0).
+    for (int k : used_indices(calc, p[j], m.qd)) {
+      if (k < j) continue;
+      const ex Mjk = calc.diff(p[j], m.qd[k]);
       // The velocities Mjk mentions, in index order (few or none: not a scan of all n).
       std::vector<int> mentioned;
       for (const std::string& name : calc.symbols(Mjk)) {
@@ -524,14 +593,9 @@ SymbolicModel derive(const ModelSource& src) {
       }
       m.M[j][k] = m.M[k][j] = Mjk;
     }
-    m.h[j] = along_motion(calc, p, m) - calc.diff(m.T, m.q[j]);
+    m.h[j] = along_motion(calc, p[j], m) - dTq[j];
   });
-  for (int j = 0; j < n; ++j) {
-    ex dV, dF;
-    within_budget(src.potential, [&] { dV = calc.diff(m.V, m.q[j]); });
-    within_budget(src.dissipation, [&] { dF = calc.diff(m.F, m.qd[j]); });
-    m.Q[j] = -dV - dF + applied[j];
-  }
+  for (int j = 0; j < n; ++j) m.Q[j] = -dV[j] - dF[j] + applied[j];
 
   // Constraints: rows g, g0 and γ = d/dt(g q̇ + g0) − g q̈.
   for (const SourceConstraint& sc : src.constraints) {
@@ -553,7 +617,8 @@ SymbolicModel derive(const ModelSource& src) {
         c.phi = phi - m.hidden.back();
       }
       within_budget(sc.holonomic, [&] {
-        for (int k = 0; k < n; ++k) c.g.push_back(calc.diff(phi, m.q[k]));
+        c.g.assign(n, ex(0));
+        for (int k : used_indices(calc, phi, m.q)) c.g[k] = calc.diff(phi, m.q[k]);
         c.g0 = calc.diff(phi, m.t);
       });
     } else {
@@ -575,11 +640,13 @@ SymbolicModel derive(const ModelSource& src) {
       }
     }
     w = c.g0;
-    for (int k = 0; k < n; ++k) w += c.g[k] * m.qd[k];
+    for (int k = 0; k < n; ++k)
+      if (!c.g[k].is_zero()) w += c.g[k] * m.qd[k];
     within_budget(sc.holonomic.text.empty() ? ExprText{src.where, sc.key, ""} : sc.holonomic,
                   [&] { c.gamma = along_motion(calc, w, m); });
     c.constant_row = true;
     for (int k = 0; k < n; ++k) {
+      if (c.g[k].is_zero()) continue;
       c.constant_row = c.constant_row && first_used(calc, c.g[k], m.q) < 0 && !calc.has(c.g[k], m.t);
     }
     // Contact attributes: numbers of the parameters only (evaluated once per instantiate()).

@@ -115,5 +115,5 @@ BOOST_AUTO_TEST_CASE(hostile_model_files_end_with_exit_2) {
   std::string coords;
   for (int i = 0; i < 10000; ++i) coords += (i ? ", \"q" : "\"q") + std::to_string(i) + "\"";
   with("coordinates = [\"x\", \"y\"]", "coordinates = [\"x\", \"y\", " + coords + "]");
-  refused(d, "", "model.coordinates", {"at most 1000 coordinates"});
+  refused(d, "", "model.coordinates", {"at most 3000 coordinates"});
 }

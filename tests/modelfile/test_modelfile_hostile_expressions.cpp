@@ -245,7 +245,8 @@ BOOST_AUTO_TEST_CASE(sizes_and_counts_are_bounded_before_any_work) {
   many.clear();
   for (std::size_t i = 0; i <= lim::constraints; ++i)
     many += "[[model.constraint]]\nname = \"c" + std::to_string(i) + "\"\nholonomic = \"x\"\n";
-  expect_refused(model("y") + many, "model.constraint", {"at most 1000 constraints"});
+  expect_refused(model("y") + many, "model.constraint",
+                 {"at most " + std::to_string(lim::constraints) + " constraints"});
   many.clear();
   for (std::size_t i = 0; i <= lim::parameters; ++i) many += "p" + std::to_string(i) + " = 1\n";
   expect_refused(model("y", "0.5*m*(x_d^2 + y_d^2)", many), "model.parameters", {"at most 10000 parameters"});

@@ -1,0 +1,192 @@
+#include "mech/sparse_compat.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pcsim::mech {
+
+bool SparseCompatibility::gather(const Eigen::MatrixXd& A, bool lower, std::vector<char>& mask,
+                                 Sparse& S) {
+  const Eigen::Index rows = A.rows(), cols = A.cols();
+  bool changed = false;
+  if (mask.size() != static_cast<std::size_t>(rows * cols) || S.rows() != rows || S.cols() != cols) {
+    mask.assign(static_cast<std::size_t>(rows * cols), 0);
+    changed = true;
+  }
+  const double* a = A.data();
+  for (Eigen::Index j = 0; j < cols; ++j) {
+    const Eigen::Index i0 = lower ? j : 0;
+    const double* col = a + j * rows;
+    char* m = mask.data() + j * rows;
+    for (Eigen::Index i = i0; i < rows; ++i) {
+      if (col[i] != 0.0 && !m[i]) {
+        m[i] = 1;
+        changed = true;
+      }
+    }
+  }
+  if (changed) {
+    std::vector<Eigen::Triplet<double, int>> entries;
+    for (Eigen::Index j = 0; j < cols; ++j)
+      for (Eigen::Index i = lower ? j : 0; i < rows; ++i)
+        if (mask[static_cast<std::size_t>(i + j * rows)])
+          entries.emplace_back(static_cast<int>(i), static_cast<int>(j), 0.0);
+    S.resize(rows, cols);
+    S.setFromTriplets(entries.begin(), entries.end());
+    S.makeCompressed();
+  }
+  const int* outer = S.outerIndexPtr();
+  const int* inner = S.innerIndexPtr();
+  double* v = S.valuePtr();
+  for (Eigen::Index j = 0; j < cols; ++j) {
+    const double* col = a + j * rows;
+    for (int p = outer[j]; p < outer[j + 1]; ++p) v[p] = col[inner[p]];
+  }
+  return changed;
+}
+
+void SparseCompatibility::analyse_mass(int n) {
+  // Union-find over the nonzeros of M's lower triangle.
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  auto root = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (int j = 0; j < n; ++j)
+    for (Sparse::InnerIterator it(M_, j); it; ++it) {
+      const int a = root(static_cast<int>(it.row())), b = root(j);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<int> block_of(n, -1);
+  blocks_.clear();
+  for (int i = 0; i < n; ++i) {
+    const int r = root(i);
+    if (block_of[r] < 0) {
+      block_of[r] = static_cast<int>(blocks_.size());
+      blocks_.emplace_back();
+    }
+    blocks_[block_of[r]].push_back(i);  // ascending
+  }
+  largest_block_ = 0;
+  std::vector<Eigen::Triplet<double, int>> entries;
+  for (const auto& b : blocks_) {
+    largest_block_ = std::max(largest_block_, static_cast<int>(b.size()));
+    for (int j : b)
+      for (int i : b) entries.emplace_back(i, j, 0.0);
+  }
+  Minv_.resize(n, n);
+  Minv_.setFromTriplets(entries.begin(), entries.end());
+  Minv_.makeCompressed();
+  ++analyses_M_;
+}
+
+SparseCompatibility::Outcome SparseCompatibility::solve(
+    const Eigen::MatrixXd& M, const Eigen::MatrixXd& g, const Eigen::VectorXd& f,
+    const Eigen::VectorXd& gamma, double kSwitch, Eigen::VectorXd& G0, Eigen::VectorXd& lambda,
+    Eigen::VectorXd& R, Eigen::VectorXd& qdd) {
+  const int n = static_cast<int>(M.rows());
+  if (gather(M, true, mask_M_, M_)) analyse_mass(n);
+  if (largest_block_ > kMaxBlock) return Outcome::not_sparse;
+  // M⁻¹ block by block. M must be positive definite with a pivot ratio above 1e-13, the dense
+  // kernel's criterion on the squared diagonal of its Cholesky factor (here of the blocks').
+  double dmin = INFINITY, dmax = 0.0;
+  double* minv = Minv_.valuePtr();
+  const int* outer = Minv_.outerIndexPtr();
+  for (const auto& b : blocks_) {
+    const int k = static_cast<int>(b.size());
+    block_.resize(k, k);
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) block_(i, j) = M(std::max(b[i], b[j]), std::min(b[i], b[j]));
+    Eigen::LLT<Eigen::MatrixXd> llt(block_);
+    if (llt.info() != Eigen::Success) return Outcome::singular_mass;
+    const auto d = llt.matrixLLT().diagonal().cwiseAbs2();
+    dmin = std::min(dmin, d.minCoeff());
+    dmax = std::max(dmax, d.maxCoeff());
+    block_inv_ = llt.solve(Eigen::MatrixXd::Identity(k, k));
+    for (int j = 0; j < k; ++j) {
+      double* col = minv + outer[b[j]];  // rows b[0..k) of column b[j], ascending
+      for (int i = 0; i < k; ++i) col[i] = block_inv_(i, j);
+    }
+  }
+  if (!(dmin > 1e-13 * dmax)) return Outcome::singular_mass;
+  a0_.noalias() = Minv_ * f;
+  if (g.rows() == 0) {
+    R.setZero();
+    qdd = a0_;
+    return Outcome::solved;
+  }
+  gather(g, false, mask_g_, g_);
+  G0 = gamma;
+  G0.noalias() += g_ * a0_;
+  // S = g M⁻¹ gᵀ by sparse products (g M⁻¹ has g's pattern widened to whole blocks).
+  S_ = Sparse(g_ * Minv_) * Sparse(g_.transpose());
+  S_.makeCompressed();
+  const int s = static_cast<int>(S_.cols());
+  const bool same = static_cast<int>(S_outer_.size()) == s + 1 &&
+                    static_cast<int>(S_inner_.size()) == S_.nonZeros() &&
+                    std::equal(S_outer_.begin(), S_outer_.end(), S_.outerIndexPtr()) &&
+                    std::equal(S_inner_.begin(), S_inner_.end(), S_.innerIndexPtr());
+  if (!same) {
+    S_outer_.assign(S_.outerIndexPtr(), S_.outerIndexPtr() + s + 1);
+    S_inner_.assign(S_.innerIndexPtr(), S_.innerIndexPtr() + S_.nonZeros());
+    ldlt_S_.analyzePattern(S_);
+    ++analyses_S_;
+  }
+  ldlt_S_.factorize(S_);
+  if (ldlt_S_.info() != Eigen::Success) return Outcome::dependent_rows;
+  // The hand-over test of the dense kernel, pivot by pivot in the factor's order: D_jj is the
+  // squared distance (M⁻¹ metric) of row j from the span of the rows factored before it.
+  {
+    sdiag_ = ldlt_S_.permutationP() * Eigen::VectorXd(S_.diagonal());
+    const Eigen::VectorXd& d = ldlt_S_.vectorD();
+    const double dmax = d.maxCoeff();
+    for (int j = 0; j < s; ++j) {
+      if (!(d[j] > 1e-13 * dmax) || d[j] < kSwitch * sdiag_[j]) return Outcome::dependent_rows;
+    }
+  }
+  lambda = ldlt_S_.solve(-G0);
+  R.noalias() = g_.transpose() * lambda;
+  qdd = a0_;
+  qdd.noalias() += Minv_ * R;
+  return Outcome::solved;
+}
+
+namespace {
+// True if the pattern of A equals the one stored (and stores A's if not).
+bool same_pattern(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& A,
+                  std::vector<int>& outer, std::vector<int>& inner) {
+  const int c = static_cast<int>(A.cols());
+  const bool same = static_cast<int>(outer.size()) == c + 1 &&
+                    static_cast<int>(inner.size()) == A.nonZeros() &&
+                    std::equal(outer.begin(), outer.end(), A.outerIndexPtr()) &&
+                    std::equal(inner.begin(), inner.end(), A.innerIndexPtr());
+  if (!same) {
+    outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + c + 1);
+    inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+  }
+  return same;
+}
+}  // namespace
+
+bool SparseMinNorm::solve(const Eigen::MatrixXd& g, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (g.rows() == 0) {
+    x = Eigen::VectorXd::Zero(g.cols());
+    return true;
+  }
+  SparseCompatibility::gather(g, false, mask_, g_);
+  A_ = g_ * Sparse(g_.transpose());
+  A_.makeCompressed();
+  if (!same_pattern(A_, outer_, inner_)) ldlt_.analyzePattern(A_);
+  ldlt_.factorize(A_);
+  if (ldlt_.info() != Eigen::Success) return false;
+  diag_ = ldlt_.permutationP() * Eigen::VectorXd(A_.diagonal());
+  const Eigen::VectorXd& d = ldlt_.vectorD();
+  for (Eigen::Index j = 0; j < d.size(); ++j)
+    if (!(d[j] > kDependent * diag_[j])) return false;
+  const Eigen::VectorXd y = ldlt_.solve(b);
+  x.noalias() = g_.transpose() * y;
+  return true;
+}
+
+}  // namespace pcsim::mech

@@ -1,0 +1,80 @@
+// The structured compatibility solve on sparse matrices (issue 23): R = gᵀ λ with
+// (g M⁻¹ gᵀ) λ = −(γ + g M⁻¹ f), for large models whose M is block-diagonal (absolute
+// coordinates: one small block per body) and whose g is sparse (each row touches a few
+// coordinates). M⁻¹ is formed block by block (a dense Cholesky per block, so M⁻¹ has M's
+// pattern), S = g M⁻¹ gᵀ by sparse products (banded for a chain), and S is factored by
+// Eigen's SimplicialLDLT with the AMD fill-reducing ordering: its symbolic analysis is done
+// when the pattern first appears (again only if a new nonzero shows up: the pattern kept is
+// the union of those seen), the numeric factorization per evaluation. Dynamics uses it for
+// n >= Dynamics::sparse_min_n (below, its dense kernel is faster); a singular M, a (nearly)
+// dependent row, or an M whose largest block has more than kMaxBlock coordinates (relative
+// coordinates: M⁻¹ is dense, nothing to gain) hands back to Dynamics' dense paths.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+namespace pcsim::mech {
+
+class SparseCompatibility {
+ public:
+  enum class Outcome {
+    solved,          ///< λ, R, q̈ and G0 set
+    singular_mass,   ///< M not positive definite (pivot ratio below 1e-13): nothing set
+    dependent_rows,  ///< a row within the hand-over angle of the others: G0 set only
+    not_sparse,      ///< M has a block larger than kMaxBlock: use the dense solve
+  };
+  static constexpr int kMaxBlock = 48;
+  /// M (n x n, symmetric, only its lower triangle read), g (s x n), f = Q − h, γ (s); kSwitch:
+  /// the hand-over threshold on the pivots of S (D_jj < kSwitch S_jj, in the factor's order).
+  Outcome solve(const Eigen::MatrixXd& M, const Eigen::MatrixXd& g, const Eigen::VectorXd& f,
+                const Eigen::VectorXd& gamma, double kSwitch, Eigen::VectorXd& G0,
+                Eigen::VectorXd& lambda, Eigen::VectorXd& R, Eigen::VectorXd& qdd);
+  /// How many symbolic analyses were done (of M, of S): a fixed pattern gives one each.
+  int analyses_M() const { return analyses_M_; }
+  int analyses_S() const { return analyses_S_; }
+
+ private:
+  using Sparse = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+  using LDLT = Eigen::SimplicialLDLT<Sparse, Eigen::Lower, Eigen::AMDOrdering<int>>;
+  // The blocks of M (connected components of its pattern) and M⁻¹'s pattern (full blocks).
+  void analyse_mass(int n);
+  // Copies the values of the dense A (its lower triangle if lower) into the sparse pattern S,
+  // widening the pattern first if A has a nonzero outside it; true if the pattern changed.
+  static bool gather(const Eigen::MatrixXd& A, bool lower, std::vector<char>& mask, Sparse& S);
+  friend class SparseMinNorm;
+
+  std::vector<char> mask_M_, mask_g_;
+  Sparse M_, g_, S_, Minv_;
+  LDLT ldlt_S_;
+  std::vector<std::vector<int>> blocks_;
+  int largest_block_ = 0;
+  Eigen::MatrixXd block_, block_inv_;
+  std::vector<int> S_outer_, S_inner_;  // the pattern S was analysed for
+  int analyses_M_ = 0, analyses_S_ = 0;
+  Eigen::VectorXd a0_, sdiag_;
+};
+
+/// The minimum-norm solution x = gᵀ (g gᵀ)⁻¹ b of g x = b for a sparse g of full row rank (the
+/// drift projection's correction, as Huang's method gives it, up to rounding): g gᵀ by a sparse
+/// product, factored by SimplicialLDLT with AMD (symbolic analysis once per pattern). Returns
+/// false, x untouched, where a pivot of g gᵀ is below kDependent of its diagonal entry (a row
+/// within about 1e-5 rad of the span of the others): the caller's Huang path decides there.
+class SparseMinNorm {
+ public:
+  static constexpr double kDependent = 1e-10;
+  bool solve(const Eigen::MatrixXd& g, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+
+ private:
+  using Sparse = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+  std::vector<char> mask_;
+  Sparse g_, A_;
+  Eigen::SimplicialLDLT<Sparse, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_;
+  std::vector<int> outer_, inner_;
+  Eigen::VectorXd diag_;
+};
+
+}  // namespace pcsim::mech
