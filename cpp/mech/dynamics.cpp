@@ -440,6 +440,7 @@ ModelIssue Dynamics::solve_rank_revealing() {
   if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
   a0_ = llt_.solve(f);
   rank_revealing = true;
+  nullity = 0;
   if (s_ == 0) {
     rank = 0;
     R.setZero();
@@ -483,6 +484,60 @@ ModelIssue Dynamics::solve_rank_revealing() {
   if (!R.allFinite() || !qdd.allFinite()) {
     return fail(ModelIssue::non_finite, "the rank-revealing reaction solve gave non-finite values at t = " + fmt(t_));
   }
+  nullity = s_ - rank;
+  // Consistency of what the filter dropped (docs/redundant.md): the scaled compatibility
+  // residual B y − b along v_i is (φ_i − 1) c_i. Consistent data has c_i = σ_i (u_iᵀ y*) for the
+  // exact y*, so along a dropped direction (σ_i < μ, φ_i < 1/2) the residual is below
+  // μ |y*| = 1e-6 σ_max |y*|; a state off the constraints by a relative ε (drift, a Radau stage
+  // value: ε up to about rtol ≤ 1e-4) moves c_i by about ε times the terms of b. The residual
+  // is compared with those terms, ref = |a0| + max_r |γ_r|/|g_r| + σ_max |y| (|S g a0| ≤ |a0|
+  // per row, |B y| ≤ σ_max |y|), at kConsistency = 1e-2: a factor 100 above the loosest
+  // tolerance's drift, while a contradiction (0 = −γ ≠ 0 at a singular position: the
+  // acceleration the constraints ask for does not exist) is of the size of the terms.
+  double gref = 0.0;
+  for (int r = 0; r < s_; ++r) gref = std::max(gref, scale[r] * std::abs(gamma[r]));
+  const double ref = a0_.norm() + gref + smax * y.norm();
+  int worst = -1, worst_row = -1;
+  double worst_ratio = 0.0;
+  for (int i = 0; i < sv.size(); ++i) {
+    if (!(sv[i] < mu)) continue;
+    const double s2 = sv[i] * sv[i], den = s2 * s2 + mu * mu * mu * mu;
+    const double left = std::abs(c[i]) * (mu * mu * mu * mu / den);  // (1 − φ_i) |c_i|
+    const double ratio = left / std::max(ref, 1e-300);
+    if (left > kConsistency * ref && ratio > worst_ratio) {
+      worst_ratio = ratio;
+      worst = i;
+    }
+  }
+  // A row that vanishes (scale 0: no direction, no force) states 0 · q̈ = −G0_r.
+  const double gscale = gmax * qdd.norm() + gamma.cwiseAbs().maxCoeff();
+  for (int r = 0; r < s_; ++r) {
+    if (scale[r] != 0.0) continue;
+    if (std::abs(G0[r]) > kConsistency * gscale && std::abs(G0[r]) > 0.0) {
+      worst = -1;
+      worst_row = r;
+      break;
+    }
+  }
+  if (worst >= 0 || worst_row >= 0) {
+    std::string names;
+    if (worst_row >= 0) {
+      names = "'" + model_->constraints()[active_->rows()[worst_row]].name + "'";
+    } else {
+      const Eigen::VectorXd v = svd.matrixV().col(worst);
+      const double vmax = v.cwiseAbs().maxCoeff();
+      for (int r = 0; r < s_; ++r)
+        if (std::abs(v[r]) > 0.1 * vmax)
+          names += (names.empty() ? "'" : ", '") + model_->constraints()[active_->rows()[r]].name + "'";
+    }
+    return fail(ModelIssue::inconsistent_constraints,
+                "the active constraints " + names + " are dependent at t = " + fmt(t_) +
+                    " and contradict each other at the acceleration level: no acceleration "
+                    "satisfies them (a singular position the motion cannot pass, or a drive "
+                    "that asks for the impossible; the part of g q'' + gamma left unsatisfied "
+                    "is " + fmt(worst_row >= 0 ? 1.0 : worst_ratio) + " of its terms, tolerance " +
+                    fmt(kConsistency) + ")");
+  }
   return ModelIssue::none;
 }
 
@@ -525,6 +580,7 @@ void Dynamics::lambda_from_R() {
 ModelIssue Dynamics::solve(ReactionMethod method) {
   ModelIssue e = ModelIssue::none;
   rank = s_;
+  nullity = 0;
   rank_revealing = false;
   switch (method) {
     case ReactionMethod::compatibility_structured:

@@ -6,6 +6,7 @@
 // a run can add and remove constraints.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -107,12 +108,18 @@ class Dynamics {
   /// q̈ are unique.
   int rank = 0;
   bool rank_revealing = false;
+  /// s − rank of the last solve (0 with full rank): the dimension of the null space of gᵀ, i.e.
+  /// of the splits λ of R that are not determined (statically indeterminate when > 0). λ is
+  /// then the minimum-norm split (of the row-scaled rows) and R = gᵀ λ still holds (R is
+  /// unique; docs/redundant.md). Per-joint outputs built from λ must say so when nullity > 0.
+  int nullity = 0;
+  bool indeterminate() const { return nullity > 0; }
 
   /// The rank-revealing reaction solve (issue 21), for any rank of g: with M = L Lᵀ, the
   /// row-scaled B = S_r g L⁻ᵀ (S_r = diag(1/|g_r|)) and b = −S_r G0, its SVD B = Σ σ_i v_i u_iᵀ
   /// gives y = Σ u_i φ_i (v_iᵀ b)/σ_i with the filter φ_i = σ_i⁴/(σ_i⁴ + μ⁴),
   /// μ = kFilter σ_max, and R = L y, q̈ = M⁻¹ f + L⁻ᵀ y, λ = S_r Σ v_i φ_i (v_iᵀ b)/σ_i².
-  /// Proof of uniqueness (README text, /notes): q̈ − M⁻¹f = M⁻¹ gᵀ λ and g q̈ = −γ give
+  /// Proof of uniqueness (docs/redundant.md): q̈ − M⁻¹f = M⁻¹ gᵀ λ and g q̈ = −γ give
   /// (g M⁻¹ gᵀ) λ = −G0; if λ and λ' both solve it, δ = λ − λ' has δᵀ g M⁻¹ gᵀ δ = |L⁻¹ gᵀ δ|² = 0,
   /// so gᵀ δ = 0 and R = gᵀ λ = gᵀ λ'. rank counts σ_i > kRankTol σ_max.
   ModelIssue solve_rank_revealing();
@@ -128,6 +135,12 @@ class Dynamics {
   /// Relative singular value below which a row counts as dependent (reported rank): about
   /// sqrt(eps); rows that are exactly dependent give σ ≈ eps σ_max, far below.
   static constexpr double kRankTol = 1.5e-8;
+  /// The consistency test of the directions the filter drops (σ_i < μ): the compatibility
+  /// residual left along them, relative to the terms of the right-hand side (|a0| + max |γ_r|/
+  /// |g_r| + σ_max |y|), must stay below 1e-2, else the solve fails with
+  /// inconsistent_constraints naming the rows (a run stops with exit 3). Consistent data leave
+  /// at most 1e-6 (μ/σ_max); a state off the constraints by rtol ≤ 1e-4 moves it by about rtol.
+  static constexpr double kConsistency = 1e-2;
   /// The structured (Cholesky) solve hands over to the rank-revealing one where a row is
   /// within an angle of 1e-2 of the span of the rows before it (in the M⁻¹ metric: its pivot
   /// U_jj² < kSwitch S_jj, independent of the row's scale), or where the old test (smallest
@@ -139,6 +152,15 @@ class Dynamics {
   /// row-scaled gᵀ leaves outside its first `numerical_rank` pivots: the dependent rows named in
   /// messages and rank reports.
   std::vector<int> dependent_row_indices(int numerical_rank) const;
+  /// After a solve() that took the full-rank structured path (rank_revealing false): the
+  /// smallest sin² of the angle between a row and the span of the rows before it, in the M⁻¹
+  /// metric (the Cholesky pivots U_jj²/S_jj of g M⁻¹ gᵀ; 1 when s = 0). The run's rank watch
+  /// (issue 21) looks closer at a step whose evaluations came near a singular position.
+  double min_pivot_ratio() const {
+    double m = 1.0;
+    for (int i = 0; i < s_; ++i) m = std::min(m, 1.0 / (sdiag_[i] * inv_s_[i] * inv_s_[i]));
+    return m;
+  }
   /// After evaluate(): the smallest singular value of g with its rows scaled to unit length (0
   /// when s > n): how close the state is to a singular position.
   double smallest_singular_value() const;

@@ -17,7 +17,8 @@ namespace {
 // rounding for consistent rows and the size of the contradiction otherwise; worst = the row with
 // the largest scaled residual.
 double truncated_min_norm(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, double rel_tol,
-                          Eigen::VectorXd& x, int& rank, int& worst) {
+                          Eigen::VectorXd& x, int& rank, int& worst,
+                          std::vector<int>* involved = nullptr) {
   const int m = static_cast<int>(A.rows());
   Eigen::VectorXd scale(m);
   for (int r = 0; r < m; ++r) {
@@ -39,9 +40,48 @@ double truncated_min_norm(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, do
     }
   }
   x = svd.matrixV() * coef;
+  if (involved) {
+    // The rows that take part in the dropped (dependent) directions: the large components of
+    // their left singular vectors (the rows a contradiction lies between).
+    involved->clear();
+    const int cols = static_cast<int>(svd.matrixU().cols());
+    for (int r = 0; r < m; ++r) {
+      bool in = false;
+      for (int i = rank; i < cols && !in; ++i) {
+        const double umax = svd.matrixU().col(i).cwiseAbs().maxCoeff();
+        in = std::abs(svd.matrixU()(r, i)) > 0.1 * umax;
+      }
+      if (in) involved->push_back(r);
+    }
+  }
   const Eigen::VectorXd res = (As * x - bs).cwiseAbs();
   res.maxCoeff(&worst);
   return res.maxCoeff();
+}
+
+// The velocity stage's rows, shared by both projections: g and g0 of the active rows at
+// (t, q, qd) into `w`, checked finite, and the residual to remove, rv = −(g q̇ + g0).
+ModelIssue velocity_residual_rows(const Model& model, const std::vector<int>& active, double t,
+                                  const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                  ProjectionWork& w, Eigen::VectorXd& rv, std::string& message) {
+  const int s = static_cast<int>(active.size());
+  w.g.resize(s, model.n());
+  w.g0.resize(s);
+  w.gamma.resize(s);
+  model.constraint_rows(active, t, q, qd, w.g, w.g0, w.gamma);
+  if (!w.g.allFinite() || !w.g0.allFinite()) {
+    message = "a constraint row is not finite during the projection at t = " + std::to_string(t);
+    return ModelIssue::non_finite;
+  }
+  rv = -(w.g * qd + w.g0);
+  return ModelIssue::none;
+}
+
+std::string row_names(const Model& model, const std::vector<int>& rows_of,
+                      const std::vector<int>& idx) {
+  std::string out;
+  for (int r : idx) out += (out.empty() ? "'" : ", '") + model.constraints()[rows_of[r]].name + "'";
+  return out;
 }
 
 }  // namespace
@@ -89,6 +129,7 @@ ModelIssue project_state_rank_revealing(const Model& model, const std::vector<in
   const Eigen::VectorXd q_start = q;
   Eigen::VectorXd x;
   int rank = 0, worst = 0;
+  std::vector<int> involved;
   if (!hol.empty()) {
     const int sh = static_cast<int>(hol.size());
     w.g.resize(sh, n);
@@ -105,7 +146,7 @@ ModelIssue project_state_rank_revealing(const Model& model, const std::vector<in
                   std::to_string(t);
         return ModelIssue::non_finite;
       }
-      res = truncated_min_norm(w.g, -phi, kTrunc, x, rank, worst);
+      res = truncated_min_norm(w.g, -phi, kTrunc, x, rank, worst, &involved);
       q += x;
       converged = x.lpNorm<Eigen::Infinity>() <= tol * (1.0 + q.lpNorm<Eigen::Infinity>());
     }
@@ -125,27 +166,28 @@ ModelIssue project_state_rank_revealing(const Model& model, const std::vector<in
                 ": constraint '" + model.constraints()[hol[worst]].name +
                 "' stays violated by " + std::to_string(phi[worst]) +
                 " after the rank-revealing projection (rank " + std::to_string(rank) + " of " +
-                std::to_string(sh) + " rows)";
+                std::to_string(sh) + " rows" +
+                (involved.empty() ? std::string()
+                                  : "; dependent there: " + row_names(model, hol, involved)) +
+                ")";
       return ModelIssue::inconsistent_constraints;
     }
     (void)res;
     dq = (q - q_start).norm();
   }
-  w.g.resize(s, n);
-  w.g0.resize(s);
-  w.gamma.resize(s);
-  model.constraint_rows(active, t, q, qd, w.g, w.g0, w.gamma);
-  if (!w.g.allFinite() || !w.g0.allFinite()) {
-    message = "a constraint row is not finite during the projection at t = " + std::to_string(t);
-    return ModelIssue::non_finite;
-  }
-  const Eigen::VectorXd rv = -(w.g * qd + w.g0);
-  const double res = truncated_min_norm(w.g, rv, kTrunc, x, rank, worst);
+  Eigen::VectorXd rv;
+  if (const ModelIssue e = velocity_residual_rows(model, active, t, q, qd, w, rv, message);
+      e != ModelIssue::none)
+    return e;
+  const double res = truncated_min_norm(w.g, rv, kTrunc, x, rank, worst, &involved);
   if (!(res <= 1e-8 * (1.0 + qd.lpNorm<Eigen::Infinity>()))) {
     message = "no velocity satisfies the active constraints at t = " + std::to_string(t) +
               ": constraint '" + model.constraints()[active[worst]].name +
               "' stays violated after the rank-revealing projection (rank " +
-              std::to_string(rank) + " of " + std::to_string(s) + " rows)";
+              std::to_string(rank) + " of " + std::to_string(s) + " rows" +
+              (involved.empty() ? std::string()
+                                : "; dependent there: " + row_names(model, active, involved)) +
+              ")";
     return ModelIssue::inconsistent_constraints;
   }
   qd += x;
@@ -248,15 +290,10 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
     }
     dq = (q - q_start).norm();
   }
-  w.g.resize(s, n);
-  w.g0.resize(s);
-  w.gamma.resize(s);
-  model.constraint_rows(active, t, q, qd, w.g, w.g0, w.gamma);
-  if (!w.g.allFinite() || !w.g0.allFinite()) {
-    message = "a constraint row is not finite during the projection at t = " + std::to_string(t);
-    return ModelIssue::non_finite;
-  }
-  const Eigen::VectorXd rv = -(w.g * qd + w.g0);
+  Eigen::VectorXd rv;
+  if (const ModelIssue e = velocity_residual_rows(model, active, t, q, qd, w, rv, message);
+      e != ModelIssue::none)
+    return e;
   const HuangResult hr = huang_solve(w.g, rv, ho);
   if (hr.info < 0) {
     message = "the Huang kernel rejected argument " + std::to_string(-hr.info);

@@ -86,6 +86,9 @@ class Run {
     if (opt_.form == Form::ode) {
       if (e == ModelIssue::none) e = dyn_.solve(method_);
       if (e != ModelIssue::none) return failed(e);
+      // Near a singular position the rank watch looks at this step (issue 21).
+      if (method_ == ReactionMethod::compatibility_structured || dyn_.rank_revealing)
+        step_pivot_ = std::min(step_pivot_, dyn_.rank_revealing ? 0.0 : dyn_.min_pivot_ratio());
       Eigen::Map<Eigen::VectorXd>(out, n_) = qd_;
       Eigen::Map<Eigen::VectorXd>(out + n_, n_) = dyn_.qdd;
       return true;
@@ -215,6 +218,174 @@ class Run {
     return true;
   }
 
+  // ---- Issue 21: the rank of the active rows along the run (SimulationResult::rank_changes).
+  // f(t) = σ_r0/σ_max of the row-scaled g at the state; r0 the rank at the start.
+  double rank_ratio(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                    Eigen::VectorXd* sv_out = nullptr) {
+    pw_.g.resize(s_, n_);
+    pw_.g0.resize(s_);
+    pw_.gamma.resize(s_);
+    model_.constraint_rows(active_, t, q, qd, pw_.g, pw_.g0, pw_.gamma);
+    for (int r = 0; r < s_; ++r) {
+      const double nr = pw_.g.row(r).norm();
+      if (nr > 0.0) pw_.g.row(r) /= nr;
+    }
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(pw_.g);
+    const Eigen::VectorXd sv = svd.singularValues();
+    if (sv_out) *sv_out = sv;
+    if (!sv.allFinite() || sv.size() == 0 || !(sv[0] > 0.0)) return 0.0;
+    return r0_ > 0 && r0_ <= sv.size() ? sv[r0_ - 1] / sv[0] : 1.0;
+  }
+  static int rank_of(const Eigen::VectorXd& sv) {
+    int r = 0;
+    for (int i = 0; i < sv.size(); ++i) r += sv[i] > kRankReport * sv[0] ? 1 : 0;
+    return r;
+  }
+  void start_rank(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    if (s_ == 0) return;
+    Eigen::VectorXd sv;
+    r0_ = 0;
+    rank_ratio(t, q, qd, &sv);
+    r0_ = rank_of(sv);
+    if (r0_ < s_) {
+      watching_ = true;
+      if (sample_dyn_.evaluate(set_, t, q, qd) == ModelIssue::none)
+        dependent_start_ = sample_dyn_.dependent_row_indices(r0_);
+    }
+  }
+  double ratio_at(const StepInfo& step, double s) {
+    dense_.resize(ny());
+    step.dense(s, dense_.data());
+    dq_ = dense_.head(n_);
+    dqd_ = dense_.segment(n_, n_);
+    return rank_ratio(s, dq_, dqd_);
+  }
+  // The crossing of f = kRankReport between a and b (f(a) and f(b) on either side).
+  double bisect(const StepInfo& step, double a, double b, bool a_low) {
+    const double tol = 1e-12 * std::max(1.0, std::abs(b));
+    for (int it = 0; it < 80 && b - a > tol; ++it) {
+      const double m = 0.5 * (a + b);
+      if ((ratio_at(step, m) < kRankReport) == a_low) a = m; else b = m;
+    }
+    return 0.5 * (a + b);
+  }
+  // The smallest f in [a, b] (golden section), its place into t.
+  double golden(const StepInfo& step, double a, double b, double& t) {
+    const double r = 0.5 * (std::sqrt(5.0) - 1.0);
+    double c = b - r * (b - a), d = a + r * (b - a);
+    double fc = ratio_at(step, c), fd = ratio_at(step, d);
+    const double tol = 1e-12 * std::max(1.0, std::abs(b));
+    for (int it = 0; it < 100 && b - a > tol; ++it) {
+      if (fc < fd) {
+        b = d; d = c; fd = fc; c = b - r * (b - a); fc = ratio_at(step, c);
+      } else {
+        a = c; c = d; fc = fd; d = a + r * (b - a); fd = ratio_at(step, d);
+      }
+    }
+    t = fc < fd ? c : d;
+    return std::min(fc, fd);
+  }
+  // Fills rank, sigma and rows of `c` at its instant c.t.
+  void describe_change(const StepInfo& step, RankChange& c) {
+    Eigen::VectorXd sv;
+    step.dense(c.t, dense_.data());
+    dq_ = dense_.head(n_);
+    dqd_ = dense_.segment(n_, n_);
+    c.sigma = rank_ratio(c.t, dq_, dqd_, &sv);
+    c.rank_before = r0_;
+    c.rank = std::min(rank_of(sv), r0_ - 1);
+    c.rows.clear();
+    if (sample_dyn_.evaluate(set_, c.t, dq_, dqd_) == ModelIssue::none) {
+      // The rows a column-pivoted QR leaves outside the rank, less those dependent from the start.
+      for (int r : sample_dyn_.dependent_row_indices(c.rank))
+        if (std::find(dependent_start_.begin(), dependent_start_.end(), r) == dependent_start_.end())
+          c.rows.push_back(r);
+    }
+  }
+  void watch_rank(const StepInfo& step) {
+    // Watched: every step of a set dependent from the start; otherwise a step whose evaluations
+    // took the rank-revealing path or came within kWatch (sin² of a row's angle to the others'
+    // span, about 0.22 rad) of a singular position, and the step after it (a minimum at the
+    // boundary between them is located in the later one).
+    const bool near = step_pivot_ < kWatch || method_ != ReactionMethod::compatibility_structured;
+    step_pivot_ = 1.0;
+    if (s_ == 0 || r0_ == 0 || !(step.t > step.t_prev)) return;
+    if (!(watching_ || near || watch_next_)) {
+      prev_decreasing_ = false;
+      return;
+    }
+    watch_next_ = near;
+    constexpr int K = 4;
+    double ts[K + 1], fs[K + 1];
+    for (int k = 0; k <= K; ++k) {
+      ts[k] = k == K ? step.t : step.t_prev + (step.t - step.t_prev) * k / K;
+      fs[k] = ratio_at(step, ts[k]);
+    }
+    const auto low = [](double f) { return f < kRankReport; };
+    if (first_watch_ && low(fs[0])) enter(ts[0]);
+    first_watch_ = false;
+    // Dips below the threshold between samples that are all above it: local minima of f at a
+    // sample (or at the step's start after a decreasing step), refined by golden section.
+    for (int k = 0; k < K; ++k) {
+      const bool at_start = k == 0 && prev_decreasing_ && fs[0] <= fs[1];
+      // A minimum at the step's end is looked for in the last quarter here, and in the first
+      // quarter of the next step (at_start there).
+      const bool inner = fs[k + 1] <= fs[k] && (k + 1 == K || fs[k + 1] <= fs[k + 2]);
+      if (!at_start && !inner) continue;
+      const int lo = at_start ? 0 : k, hi = at_start ? 1 : std::min(k + 2, K);
+      bool any_low = false;
+      for (int j = lo; j <= hi; ++j) any_low = any_low || low(fs[j]);
+      if (any_low || fs[at_start ? 0 : k + 1] > 0.1) continue;  // not near a singular position
+      RankChange c;
+      const double fmin = golden(step, ts[lo], ts[hi], c.t);
+      if (!low(fmin)) continue;
+      if (!changes_.empty() && !(c.t > changes_.back().t_to)) continue;  // found from both sides
+      c.t_from = bisect(step, ts[lo], c.t, false);
+      c.t_to = bisect(step, c.t, ts[hi], true);
+      describe_change(step, c);
+      changes_.push_back(c);
+    }
+    // Crossings of the threshold at the samples: entering and leaving a low-rank interval.
+    for (int k = 0; k < K; ++k) {
+      const bool lo0 = low(fs[k]), lo1 = low(fs[k + 1]);
+      if (lo1 && fs[k + 1] < best_ && low_) {
+        best_ = fs[k + 1];
+        open_.t = ts[k + 1];
+        describe_change(step, open_);
+      }
+      if (lo0 == lo1) continue;
+      const double tc = bisect(step, ts[k], ts[k + 1], lo0);
+      if (lo1) {
+        enter(tc);
+        best_ = fs[k + 1];
+        open_.t = ts[k + 1];
+        describe_change(step, open_);
+      } else if (low_) {
+        open_.t_to = tc;
+        if (open_.t_from >= step.t_prev) {  // the whole interval in this step: its smallest f
+          double tm;
+          if (golden(step, open_.t_from, tc, tm) < best_) {
+            open_.t = tm;
+            describe_change(step, open_);
+          }
+        }
+        changes_.push_back(open_);
+        low_ = false;
+      }
+    }
+    prev_decreasing_ = fs[K] < fs[K - 1];
+  }
+  void enter(double t) {
+    open_ = RankChange{};
+    open_.t_from = open_.t = t;
+    best_ = INFINITY;
+    low_ = true;
+  }
+  void finish_rank() {
+    if (low_) changes_.push_back(open_);
+    low_ = false;
+  }
+
   // Called at t0 (step == nullptr) and after every accepted step.
   bool observe(const StepInfo* step, double t, const Eigen::VectorXd& q,
                const Eigen::VectorXd& qd, const StepObserver& observer) {
@@ -262,6 +433,7 @@ class Run {
       }
     }
     track_residuals(step.t, q, qd);
+    if (opt_.form == Form::ode) watch_rank(step);
     if (!observe(&step, step.t, q, qd, observer)) return StepAction::stop;
     return modified ? StepAction::state_modified : StepAction::proceed;
   }
@@ -294,6 +466,16 @@ class Run {
   ModelIssue projection_issue_ = ModelIssue::none;
   std::string message_;
   std::string observer_error_;
+  // Issue 21's rank watch.
+  bool watching_ = false, first_watch_ = true, low_ = false, prev_decreasing_ = false;
+  double best_ = INFINITY;
+  double step_pivot_ = 1.0;  // the smallest min_pivot_ratio() of the step's evaluations
+  bool watch_next_ = false;
+  static constexpr double kWatch = 0.05;
+  int r0_ = 0;
+  std::vector<int> dependent_start_;
+  RankChange open_;
+  std::vector<RankChange> changes_;
 };
 
 }  // namespace
@@ -339,6 +521,9 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
     return result;
   }
   run.track_residuals(options.t0, q, qd);
+  run.start_rank(options.t0, q, qd);
+  result.rank_start = run.s_ > 0 ? run.r0_ : 0;
+  result.dependent_start = run.dependent_start_;
   if (!run.observe(nullptr, options.t0, q, qd, observer)) {
     result.status = run.observer_error_.empty() ? SimulationStatus::stopped_by_observer
                                                 : SimulationStatus::observer_error;
@@ -378,6 +563,8 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   result.qd_end = rr.y.size() == run.ny() ? Eigen::VectorXd(rr.y.segment(n, n)) : qd;
   result.residual_pos_max = run.res_pos_max_;
   result.residual_vel_max = run.res_vel_max_;
+  run.finish_rank();
+  result.rank_changes = run.changes_;
   if (run.projection_issue_ != ModelIssue::none) {
     result.status = SimulationStatus::projection_failed;
     result.issue = run.projection_issue_;

@@ -89,6 +89,23 @@ class StepView {
 /// step. Return false to stop (status stopped_by_callback).
 using StepObserver = std::function<bool(const StepView&)>;
 
+/// Issue 21: where the rank of the active constraint rows changed during a run. The rank is
+/// counted at the filter's threshold: row-scaled singular values σ_i > kRankReport σ_max (the
+/// rank-revealing solve enforces a direction fully only above it). The watched quantity is
+/// σ_r0/σ_max, r0 the rank at the start; a change is located on the integrator's dense output
+/// (bisection for the threshold crossings, golden section for the instant of the smallest value)
+/// to 1e-12 s relative to max(1, |t|), or the step's resolution when the run ends inside it.
+struct RankChange {
+  double t = 0.0;       ///< the instant: where σ_r0/σ_max is smallest between t_from and t_to
+  double t_from = 0.0;  ///< where σ_r0/σ_max fell below kRankReport
+  double t_to = std::numeric_limits<double>::quiet_NaN();  ///< where it rose above (NaN: never)
+  int rank_before = 0;  ///< the rank before (r0)
+  int rank = 0;         ///< the rank at t
+  double sigma = 0.0;   ///< σ_r0/σ_max at t
+  std::vector<int> rows;  ///< the rows (indices into the active set) that became dependent
+};
+inline constexpr double kRankReport = 1e-6;
+
 struct SimulationResult {
   SimulationStatus status = SimulationStatus::invalid_model;
   OdeStatus integrator_status = OdeStatus::bad_input;  ///< the integrator's own status
@@ -103,6 +120,13 @@ struct SimulationResult {
   double residual_pos_max = 0.0;        ///< over the accepted steps (after projection if on)
   double residual_vel_max = 0.0;
   Eigen::VectorXd q_end, qd_end;
+  /// Issue 21: the rank of the active rows at the start (kRankReport; the number of rows when
+  /// none), the rows (indices into the active set) dependent there, and the changes during the
+  /// run (simulate(); not tracked by simulate_switching). rank_start < the number of rows: the
+  /// split λ of R is indeterminate from the start, with a null space of that difference.
+  int rank_start = 0;
+  std::vector<int> dependent_start;
+  std::vector<RankChange> rank_changes;
 };
 
 /// The one driver of simulate() and simulate_switching(): integrates `problem` over the span

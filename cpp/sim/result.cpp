@@ -32,7 +32,7 @@ const char* const kGenericKeys[] = {
     "case", "model", "model_variant", "kernel", "form", "method", "methods_used", "t_end",
     "window", "window_clipped", "summary_periods", "period", "summary_time", "stats", "q_end",
     "qd_end", "extremes", "constraint_residual_max", "constraints", "parameters", "output_dt",
-    "initial_correction", "initial_state", "accuracy", "complete", "switching", "stopped",
+    "initial_correction", "initial_state", "accuracy", "complete", "switching", "rank", "stopped",
     "failure", "t_reached"};
 
 }  // namespace
@@ -164,6 +164,7 @@ nlohmann::json to_json(const RunResult& r) {
   if (!r.accuracy.reliable) j["accuracy"]["reason"] = r.accuracy.reason;
   j["complete"] = r.complete;
   if (!r.switching.is_null()) j["switching"] = r.switching;
+  if (!r.rank.is_null()) j["rank"] = r.rank;
   for (const auto& [k, v] : r.additions.items()) j[k] = v;
   if (r.stopped) {
     j["stopped"] = {{"t", r.stopped->t}, {"reason", r.stopped->reason}};
@@ -225,6 +226,7 @@ RunResult result_from_json(const nlohmann::json& s, std::vector<std::string> col
                 a.at("atol").get<double>(), a.value("reason", std::string())};
   r.complete = s.at("complete").get<bool>();
   if (s.contains("switching")) r.switching = s.at("switching");
+  if (s.contains("rank")) r.rank = s.at("rank");
   if (s.contains("stopped"))
     r.stopped = RunEnd{s.at("stopped").at("t").get<double>(), "",
                        s.at("stopped").at("reason").get<std::string>()};

@@ -82,6 +82,9 @@ struct RunResult {
   /// With contact.switching: summary.json's "switching" object (sim/switching_summary.hpp);
   /// null without.
   nlohmann::json switching;
+  /// Issue 21: summary.json's "rank" object (sim/rank_summary.hpp): null when the active rows
+  /// have full rank at the start and keep it.
+  nlohmann::json rank;
   /// The model client's keys (e.g. the sieve's verdicts and margins), merged into summary.json
   /// over the generic ones; an empty object without a client.
   nlohmann::json additions = nlohmann::json::object();

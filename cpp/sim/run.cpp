@@ -21,6 +21,7 @@
 #include "mech/projection.hpp"
 #include "mech/simulation.hpp"
 #include "mech/contacts/switching.hpp"
+#include "sim/rank_summary.hpp"
 #include "sim/switching_summary.hpp"
 #include "sim/client.hpp"
 #include "sim/extremes.hpp"
@@ -448,6 +449,19 @@ RunResult run_case(const Case& c, const RunOptions& options) {
   r.accuracy = {unreliable.empty(), set.rtol, set.atol, unreliable};
   r.complete = complete;
   if (set.contact.switching) r.switching = switching_summary(sres, set);
+  else r.rank = rank_summary(res, set.active, 0.0);
+  // events.csv: the contacts' switches, or the rank changes (issue 21) of a run without them.
+  const bool events = set.contact.switching || !rank_event_rows(r.rank).empty();
+  const auto events_text = [&] {
+    if (set.contact.switching) return events_csv(sres);
+    std::string text = "t,kind,constraint,mode_before,mode_after,normal,tangential,vn_before,"
+                       "vn_after,vt_before,vt_after,energy_lost\n";
+    auto rows = rank_event_rows(r.rank);
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& row : rows) text += row.second;
+    return text;
+  };
   if (client_mon) client_mon->finish(res, r);
   if (client_stop) {
     // The model's client ended the run: what was computed up to then is written, marked as
@@ -461,14 +475,14 @@ RunResult run_case(const Case& c, const RunOptions& options) {
 
   if (out) {
     writer->finish();
-    if (set.contact.switching) out->write("events.csv", events_csv(sres));
+    if (events) out->write("events.csv", events_text());
     out->write("summary.json", to_json(r).dump(2) + "\n");
     out->commit();
   } else if (dir) {
     writer->finish();
   }
   if (options.keep) {
-    if (set.contact.switching) options.keep->events_csv = events_csv(sres);
+    if (events) options.keep->events_csv = events_text();
     if (!complete) options.keep->partial = r;
   }
   if (complete && !unreliable.empty())
@@ -668,6 +682,7 @@ std::string human_report(const Case& c, const RunResult& r) {
     os << buf;
   }
   os << switching_report(r.switching);
+  os << rank_report(r.rank);
   const RunStats& st = r.stats;
   os << "  solver: " << st.steps << " steps (" << st.accepted << " accepted, " << st.rejected
      << " rejected), " << st.f_evals << " f-evaluations; " << format_significant(st.wall_seconds, 3)

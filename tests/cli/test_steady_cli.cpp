@@ -12,38 +12,18 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
+
+#include "../support/cli_util.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int status;
-  std::string output;
-};
+using pcsim_test::Result;
+using pcsim_test::run_pcsim;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(PCSIM_BINARY_DIR) / "test-scratch" / "steady_cli" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-Result run_pcsim(const std::string& args, const fs::path& dir) {
-  const char* exe = std::getenv("PCSIM_EXE");
-  BOOST_REQUIRE_MESSAGE(exe, "PCSIM_EXE is not set (run through ctest)");
-  const auto log = dir / "output.txt";
-  const int rc = std::system((std::string(exe) + " " + args + " > '" + log.string() + "' 2>&1").c_str());
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(log)};
-}
+std::string slurp(const fs::path& p) { return pcsim_test::read(p); }
+fs::path scratch(const std::string& name) { return pcsim_test::scratch("steady_cli", name); }
 
 const std::string kSieve = std::string(PCSIM_SOURCE_DIR) + "/cases/sieve_1995.toml";
 const std::string kDuffing = std::string(PCSIM_SOURCE_DIR) + "/tests/steady/duffing.toml";
@@ -55,9 +35,9 @@ std::string first_line(const std::string& text) { return text.substr(0, text.fin
 BOOST_AUTO_TEST_CASE(steady_writes_steady_json_and_one_period_of_the_time_series) {
   const auto dir = scratch("steady");
   const auto r = run_pcsim("steady " + kSieve + " --out '" + (dir / "out").string() + "'", dir);
-  BOOST_REQUIRE_MESSAGE(r.status == 0, r.output);
-  BOOST_TEST(r.output.find("the orbit is STABLE") != std::string::npos, r.output);
-  BOOST_TEST(r.output.find("slow coordinate s: held at its period mean 0.4") != std::string::npos, r.output);
+  BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
+  BOOST_TEST(r.out.find("the orbit is STABLE") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("slow coordinate s: held at its period mean 0.4") != std::string::npos, r.out);
   const auto j = nlohmann::json::parse(slurp(dir / "out" / "steady.json"));
   for (const char* k : {"state", "floquet", "newton", "slow", "summary", "periodicity_check", "shooting"})
     BOOST_TEST(j.contains(k), k);
@@ -74,7 +54,7 @@ BOOST_AUTO_TEST_CASE(steady_writes_steady_json_and_one_period_of_the_time_series
   // pcsim plot draws the period (steady.json's summary).
   if (std::system("command -v gnuplot > /dev/null 2>&1") == 0) {
     const auto p = run_pcsim("plot '" + (dir / "out").string() + "'", dir);
-    BOOST_TEST(p.status == 0, p.output);
+    BOOST_TEST(p.status == 0, p.out);
     BOOST_TEST(fs::exists(dir / "out" / "R_u.png"));
   }
 }
@@ -85,9 +65,9 @@ BOOST_AUTO_TEST_CASE(newton_failure_exits_3_with_the_residual_reached_and_keeps_
   const auto r = run_pcsim("steady " + kDuffing + " --set parameters.omega=1.8 --max-iterations 1 --transient-periods 0 --out '" +
                                (dir / "out").string() + "'",
                            dir);
-  BOOST_TEST(r.status == 3, r.output);
-  BOOST_TEST(r.output.find("did not converge in 1 iteration: residual reached") != std::string::npos, r.output);
-  BOOST_TEST(r.output.find("1 iterations") == std::string::npos, r.output);
+  BOOST_TEST(r.status == 3, r.out);
+  BOOST_TEST(r.out.find("did not converge in 1 iteration: residual reached") != std::string::npos, r.out);
+  BOOST_TEST(r.out.find("1 iterations") == std::string::npos, r.out);
   BOOST_TEST_REQUIRE(fs::exists(dir / "out" / "steady.json"));
   std::ifstream in(dir / "out" / "steady.json");
   const nlohmann::json j = nlohmann::json::parse(in);
@@ -101,22 +81,22 @@ BOOST_AUTO_TEST_CASE(what_steady_and_response_cannot_do_is_refused_before_comput
   {
     std::ofstream(dir / "pendulum.toml") << "model = \"pendulum\"\n[initial]\nx = 1.0\n";
     const auto r = run_pcsim("steady '" + (dir / "pendulum.toml").string() + "' --out '" + (dir / "o1").string() + "'", dir);
-    BOOST_TEST(r.status == 2, r.output);
-    BOOST_TEST(r.output.find("declares no excitation period") != std::string::npos, r.output);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(r.out.find("declares no excitation period") != std::string::npos, r.out);
   }
   {
     const auto r = run_pcsim("steady " + kSieve + " --periods 0", dir);
-    BOOST_TEST(r.status == 2, r.output);
+    BOOST_TEST(r.status == 2, r.out);
   }
   {
     const auto r = run_pcsim("response " + kSieve + " --vary solver.rtol=1e-6,1e-7 --out '" + (dir / "o2").string() + "'", dir);
-    BOOST_TEST(r.status == 2, r.output);
-    BOOST_TEST(r.output.find("pcsim response varies a model parameter") != std::string::npos, r.output);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(r.out.find("pcsim response varies a model parameter") != std::string::npos, r.out);
     BOOST_TEST(!fs::exists(dir / "o2"));
   }
   {
     const auto r = run_pcsim("response " + kSieve + " --vary parameters.omgea=1,2", dir);
-    BOOST_TEST(r.status == 2, r.output);
+    BOOST_TEST(r.status == 2, r.out);
   }
   // A switching case: the orbit shooting finds is the smooth one with the contacts held, so
   // a switching steady state is refused rather than reported under its heading (issue 12/13).
@@ -125,8 +105,8 @@ BOOST_AUTO_TEST_CASE(what_steady_and_response_cannot_do_is_refused_before_comput
     const auto r = run_pcsim(std::string(cmd) + kSieve + " --set contact.switching=true" +
                                  (cmd[0] == 'r' ? " --vary parameters.omega=280,281" : "") +
                                  " --out '" + out.string() + "'", dir);
-    BOOST_TEST(r.status == 2, r.output);
-    BOOST_TEST(r.output.find("key 'contact.switching': expected false") != std::string::npos, r.output);
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(r.out.find("key 'contact.switching': expected false") != std::string::npos, r.out);
     BOOST_TEST(!fs::exists(out));
   }
 }
@@ -136,7 +116,7 @@ BOOST_AUTO_TEST_CASE(response_at_listed_values_writes_its_table_and_curves) {
   const auto r = run_pcsim("response " + kDuffing + " --vary parameters.omega=0.8,1.2,3.0 --jobs 2 --out '" +
                                (dir / "out").string() + "'",
                            dir);
-  BOOST_REQUIRE_MESSAGE(r.status == 0, r.output);
+  BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
   const std::string csv = slurp(dir / "out" / "response.csv");
   long rows = 0;
   for (char c : csv) rows += c == '\n';
@@ -147,10 +127,10 @@ BOOST_AUTO_TEST_CASE(response_at_listed_values_writes_its_table_and_curves) {
   BOOST_TEST(j["failed_points"].get<int>() == 0);
   if (std::system("command -v gnuplot > /dev/null 2>&1") == 0) {
     const auto p = run_pcsim("plot '" + (dir / "out").string() + "'", dir);
-    BOOST_TEST(p.status == 0, p.output);
+    BOOST_TEST(p.status == 0, p.out);
     BOOST_TEST(fs::exists(dir / "out" / "amplitudes.png"));
   }
   // A second run into the same directory replaces it (a pcsim output directory).
   const auto again = run_pcsim("response " + kDuffing + " --vary parameters.omega=0.8 --out '" + (dir / "out").string() + "'", dir);
-  BOOST_TEST(again.status == 0, again.output);
+  BOOST_TEST(again.status == 0, again.out);
 }

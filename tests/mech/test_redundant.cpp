@@ -11,6 +11,7 @@
 #include <cmath>
 #include <random>
 
+#include "mech/dynamics.hpp"
 #include "mech/models/registry.hpp"
 #include "mech/simulation.hpp"
 
@@ -120,4 +121,114 @@ BOOST_AUTO_TEST_CASE(contradictory_rows_are_still_refused_by_name) {
   BOOST_TEST((r.status == SimulationStatus::invalid_model));
   BOOST_TEST((r.issue == ModelIssue::inconsistent_constraints));
   BOOST_TEST(r.message.find("'B_y_shifted'") != std::string::npos, r.message);
+}
+
+namespace {
+
+// A point mass (x, y) under gravity (V = y) with a rail y = 0 and a circle x² + y² − 1 = 0.
+// At (0, 1) the two rows (0, 1) and (0, 2) are dependent; their acceleration-level equations
+// ÿ = 0 and 2 ÿ + 2 (ẋ² + ẏ²) = 0 agree at rest and contradict each other when ẋ ≠ 0.
+struct RailCircle {
+  std::string name() const { return "rail_circle"; }
+  std::vector<std::string> coordinates() const { return {"x", "y"}; }
+  std::vector<ConstraintInfo> constraints() const {
+    return {{"rail", ConstraintKind::holonomic, false}, {"circle", ConstraintKind::holonomic, false}};
+  }
+  template <class S> S kinetic_energy(const VecX<S>& q, const VecX<S>& qd, const S& t) const {
+    return 0.5 * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S> S potential_energy(const VecX<S>& q, const S& t) const { return q[1]; }
+  template <class S> S holonomic(int i, const VecX<S>& q, const S& t) const {
+    return i == 0 ? S(q[1]) : S(q[0] * q[0] + q[1] * q[1] - 1.0);
+  }
+};
+
+}  // namespace
+
+// Issue 21, no wrong number: the rank-revealing solve checks the directions it drops. Dependent
+// rows that contradict each other at the acceleration level (rail and circle at (0, 1) with
+// ẋ = 1: ÿ = 0 and ÿ = −1) are refused by name; a row that vanishes with γ ≠ 0 (the pendulum at
+// its pivot, moving: 0 · q̈ = −2 |q̇|²) too. The same states at rest are consistent: R is the
+// unique answer (the weight held: R_y = 1 for the rail pair; free fall at the pivot).
+BOOST_AUTO_TEST_CASE(dependent_rows_that_contradict_at_the_acceleration_level_are_named) {
+  const auto model = make_model(RailCircle{});
+  const std::vector<std::string> set = {"rail", "circle"};
+  for (ReactionMethod m : {ReactionMethod::compatibility_structured, ReactionMethod::compatibility}) {
+    const ReactionResult bad =
+        reactions(*model, set, 0.0, Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(1.0, 0.0), m);
+    BOOST_TEST((bad.issue == ModelIssue::inconsistent_constraints), bad.message);
+    BOOST_TEST(bad.message.find("'rail'") != std::string::npos, bad.message);
+    BOOST_TEST(bad.message.find("'circle'") != std::string::npos, bad.message);
+    BOOST_TEST(bad.message.find("t = 0") != std::string::npos, bad.message);
+    const ReactionResult ok =
+        reactions(*model, set, 0.0, Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(0.0, 0.0), m);
+    BOOST_TEST((ok.issue == ModelIssue::none), ok.message);
+    BOOST_TEST(std::abs(ok.R[1] - 1.0) < 1e-12);
+    BOOST_TEST(std::abs(ok.R[0]) < 1e-12);
+    BOOST_TEST(std::abs(ok.qdd[1]) < 1e-12);
+  }
+  const auto pendulum = create_model("pendulum");
+  const ReactionResult moving = reactions(*pendulum, {"length"}, 0.0, Eigen::Vector2d(0.0, 0.0),
+                                          Eigen::Vector2d(1.0, 0.0),
+                                          ReactionMethod::compatibility_structured);
+  BOOST_TEST((moving.issue == ModelIssue::inconsistent_constraints), moving.message);
+  BOOST_TEST(moving.message.find("'length'") != std::string::npos, moving.message);
+  const ReactionResult rest = reactions(*pendulum, {"length"}, 0.0, Eigen::Vector2d(0.0, 0.0),
+                                        Eigen::Vector2d(0.0, 0.0),
+                                        ReactionMethod::compatibility_structured);
+  BOOST_TEST((rest.issue == ModelIssue::none), rest.message);
+  BOOST_TEST(rest.R.norm() == 0.0);
+}
+
+// A consistent dependent set is never refused by the check, whatever the size of its terms (the
+// test is relative to them): the slider-crank with B_y_copy at random states, velocities scaled
+// by 1e-3, 1 and 1e3 (γ by 1e-6 .. 1e6 against gravity's fixed a0).
+BOOST_AUTO_TEST_CASE(the_consistency_check_accepts_consistent_dependent_rows_at_any_scale) {
+  const auto model = create_model("slider_crank");
+  const std::vector<std::string> set = {"A_x", "A_y", "B_x", "B_y", "B_y_copy"};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double vs : {1e-3, 1.0, 1e3}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      Eigen::VectorXd q(5), qd(5);
+      for (int i = 0; i < 5; ++i) {
+        q[i] = 1.5 * u(rng);
+        qd[i] = vs * u(rng);
+      }
+      const ReactionResult r =
+          reactions(*model, set, 0.0, q, qd, ReactionMethod::compatibility_structured);
+      BOOST_TEST((r.issue == ModelIssue::none), r.message);
+    }
+  }
+}
+
+// Issue 21, indeterminate splits: where rows are dependent the engine says so next to λ
+// (Dynamics::nullity, the null space of gᵀ), keeps λ the minimum-norm split and R = gᵀ λ.
+// Full-rank sets say nullity 0.
+BOOST_AUTO_TEST_CASE(an_indeterminate_split_is_marked_with_its_nullity_and_still_sums_to_r) {
+  const auto model = create_model("slider_crank");
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const auto& names : std::vector<std::vector<std::string>>{
+           {"A_x", "A_y", "B_x", "B_y"}, {"A_x", "A_y", "B_x", "B_y", "B_y_copy"}}) {
+    std::vector<int> rows;
+    for (const auto& nm : names) rows.push_back(model->constraint_index(nm));
+    const ActiveSet active = ActiveSet::of(*model, rows);
+    for (ReactionMethod m : {ReactionMethod::compatibility_structured, ReactionMethod::compatibility}) {
+      Dynamics dyn(*model, Kernel::cpp);
+      Eigen::VectorXd q(5), qd(5);
+      for (int i = 0; i < 5; ++i) {
+        q[i] = 1.5 * u(rng);
+        qd[i] = 2.0 * u(rng);
+      }
+      BOOST_REQUIRE((dyn.evaluate(active, 0.3, q, qd) == ModelIssue::none));
+      BOOST_REQUIRE((dyn.solve(m) == ModelIssue::none));
+      const int expected = static_cast<int>(names.size()) - 4;
+      BOOST_TEST(dyn.nullity == expected);
+      BOOST_TEST(dyn.indeterminate() == (expected > 0));
+      BOOST_TEST(dyn.rank == 4);
+      const Eigen::VectorXd RgT = dyn.g.transpose() * dyn.lambda;
+      BOOST_TEST((RgT - dyn.R).norm() <= 1e-10 * (1.0 + dyn.R.norm()));
+    }
+  }
 }

@@ -69,4 +69,21 @@ struct TempDir {
   TempDir& operator=(const TempDir&) = delete;
 };
 
+/// A fresh scratch directory in the build tree: test-scratch/<suite>/<name>, emptied first
+/// (kept after the test, for a look at what a failing run wrote).
+inline fs::path scratch(const std::string& suite, const std::string& name) {
+  const fs::path d = fs::path(PCSIM_BINARY_DIR) / "test-scratch" / suite / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+/// Runs `pcsim ARGS` (PCSIM_EXE) in `dir`, its output (stdout and stderr) logged to
+/// dir/output.txt and returned with the exit status. ARGS is a command line: quote paths.
+inline Result run_pcsim(const std::string& args, const fs::path& dir) {
+  const auto log = dir / "output.txt";
+  const int rc = std::system((exe() + " " + args + " > '" + log.string() + "' 2>&1").c_str());
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, read(log)};
+}
+
 }  // namespace pcsim_test
