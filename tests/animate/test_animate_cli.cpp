@@ -29,10 +29,17 @@ std::set<std::string> listing(const fs::path& dir) {
   return out;
 }
 
-// A short run of each case: the sieve cases 0.3 s, the others at most 1 s.
+// A short run of each case: the sieve cases 0.3 s, the others at most 1 s; under the
+// sanitizers (the Debug build, where the spatial and redundant models cost tens of milliseconds
+// per evaluation) every case 0.2 s: the page is what is tested, not the motion.
 std::string short_run(const std::string& name) {
+#ifndef NDEBUG
+  (void)name;
+  return "--set solver.t_end=0.2";
+#else
   if (name.rfind("sieve", 0) == 0) return "--set solver.t_end=0.3";
   return "--set solver.t_end=1";
+#endif
 }
 
 }  // namespace
@@ -56,9 +63,12 @@ BOOST_AUTO_TEST_CASE(every_case_animates_after_pcsim_run) {
       BOOST_TEST(!pcsim_test::has(html, "http://"));
       BOOST_TEST(!pcsim_test::has(html, "https://"));
       BOOST_TEST(!pcsim_test::has(html, "<script src"));
-      // the run can be run again into the same directory (animation.html is pcsim's file)
-      const Result again = run_pcsim("run '" + e.path().string() + "' --out '" + out.string() + "' " + short_run(name), kSource);
-      BOOST_TEST(again.status == 0, again.out);
+      // the run can be run again into the same directory (animation.html is pcsim's file):
+      // once, on the first case
+      if (n == 0) {
+        const Result again = run_pcsim("run '" + e.path().string() + "' --out '" + out.string() + "' " + short_run(name), kSource);
+        BOOST_TEST(again.status == 0, again.out);
+      }
       ++n;
     }
   }
