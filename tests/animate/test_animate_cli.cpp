@@ -14,7 +14,7 @@
 #include <set>
 #include <sstream>
 
-#include <toml++/toml.hpp>
+#include <toml++/toml.h>
 
 #include "animate/scene.hpp"
 #include "animate/video.hpp"
