@@ -2,14 +2,15 @@
 // (models/andrews_squeezer.toml: seven planar bodies placed by tree joints whose coordinates are
 // the benchmark's seven relative angles, three loop-closing revolute joints, a spring, a torque),
 // against the problem "andrews" of the Test Set for IVP Solvers (F. Mazzia, C. Magherini,
-// F. Iavernaro, University of Bari, release 2.4; formerly CWI, W. M. Lioen and J. J. B. de Swart),
+// F. Iavernaro, University of Bari, andrews.F revision 1.2 of 2006; formerly CWI, W. M. Lioen and
+// J. J. B. de Swart),
 // which takes the equations from Hairer & Wanner, Solving Ordinary Differential Equations II,
 // section VII.7, and those from Schiehlen (ed.), Multibody Systems Handbook (1990):
 //   - the equations: M(q), f(q, q_d) and g(q) as the Test Set prints them, written out below
 //     (nothing of pcsim's bodies, joints or derivation is used for them);
 //   - the consistent initial values and, at t = 0.03 s, the reference solution (positions,
 //     velocities, accelerations, multipliers), copied from the Test Set's andrews.f (subroutine
-//     solut), which states it was computed with PSIDE at rtol = atol = 1e-14 on a Cray C90 in
+//     solut; andsoln in the copy of the R package deTestSet), which states it was computed with PSIDE at rtol = atol = 1e-14 on a Cray C90 in
 //     Cray double precision (128-bit).
 // The Test Set writes M q'' = f(q, q') - G(q)^T lambda, 0 = g(q); pcsim writes M q'' + h = Q + R,
 // R = g^T lambda. With the loop rows written as the Test Set's g (same order, same sign), pcsim's
