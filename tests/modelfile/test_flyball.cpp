@@ -1,7 +1,8 @@
 // IFToMM benchmark A05, the stiff flyball governor (models/flyball_governor.toml: shaft, slider
-// and two rods as spatial bodies in Euler parameters, 28 coordinates, 24 rows, two stiff
-// spring-dampers k = 8e5 N/m, c = 4e4 N s/m) against an independent minimal-coordinate model
-// written here (issue 22's validation).
+// and two rods as spatial bodies, two stiff spring-dampers k = 8e5 N/m, c = 4e4 N s/m; as shipped
+// the shaft and rods sit on revolute tree joints, 10 coordinates; without those joints'
+// coordinates all four bodies are absolute in Euler parameters, 28 coordinates, 24 rows) against
+// an independent minimal-coordinate model written here (issue 22's validation).
 //
 // The oracle. Released symmetrically, the governor stays symmetric: both rods make the same
 // angle th below the horizontal, so three coordinates remain, the shaft's angle psi, th and the
@@ -11,11 +12,12 @@
 // moments Jbt transverse, Jba axial) and a point mass mp at r = Lb (kept apart here; the model
 // file lumps them into one body):
 //   T = 1/2 Iz(th) psi_d^2 + 1/2 Ith th_d^2 + 1/2 msl s_d^2,
-//   Iz(th) = Jsh + Jsl + 2 [mb (a + Lb/2 cos th)^2 + Jbt cos^2 th + Jba sin^2 th + mp (a + Lb cos th)^2],
+//   Iz(th) = Jba + Jsl + 2 [mb (a + Lb/2 cos th)^2 + Jbt cos^2 th + Jba sin^2 th + mp (a + Lb cos th)^2],
 //   Ith = 2 [mb (Lb/2)^2 + Jbt + mp Lb^2],
 //   V = msl g s + 2 g [mb (h - Lb/2 sin th) + mp (h - Lb sin th)] + 2 * 1/2 k (L - L0)^2,
 //   F = 2 * 1/2 c L_d^2 (Rayleigh), L^2 = (lm cos th)^2 + (h - lm sin th - s)^2 (the spring from
-//   the slider's side (a, 0, s) to the rod's point at lm; the slider's half width equals a).
+//   the slider's side (a, 0, s) to the rod's point at lm; the slider's half width equals a;
+//   the shaft's own axial moment is Jba, the cube's Jsl).
 // psi is cyclic: p = Iz(th) psi_d is constant, and Lagrange's equations are
 //   Ith th_dd = 1/2 Iz'(th) psi_d^2 - dV/dth - 2 c L_d L_th,   msl s_dd = -dV/ds - 2 c L_d L_s,
 // derived by hand (below), integrated by classical RK4 at h = 1e-5 s (the stiff spring modes
