@@ -227,13 +227,37 @@ Balance balance(const std::array<Body, 4>& B) {
 // The oracle on a grid, and pcsim's run compared with it (below).
 struct Errors {
   double R = 0, s = 0, w = 0, H = 0, F = 0, F_max = 0, bal = 0, W = 0, W_oracle = 0, E0 = 0, p = 0, s_span = 0;
+  double Fh = 0, Fh_max = 0;  // rod 1's hinge force in the hinge frame
 };
+
+// Rod 1's hinge force on the rod (ground axes) by Newton from the oracle's state: the bar's and
+// the ball's m a, minus their weight, minus the spring's force on the rod's point at lm. In the
+// shaft's frame (turning at Omega = psi_d z) a point at r on the rod is P = A + r u(th); its
+// acceleration is Rz(psi) (P_dd + 2 Omega x P_d + Omega_d x P + Omega x (Omega x P)).
+Vector3d hinge1_force(const Y& y, double p) {
+  const double psi = y[0], th = y[1], thd = y[3], sd = y[4];
+  const Y yd = rhs(y, p);
+  const double thdd = yd[3], psid = p / Iz(th), psidd = -p * Iz_th(th) * thd / (Iz(th) * Iz(th));
+  const Vector3d u(std::cos(th), 0, -std::sin(th)), u1(-std::sin(th), 0, -std::cos(th)), A(a, 0, h);
+  const Vector3d Om(0, 0, psid), Omd(0, 0, psidd);
+  auto acc = [&](double r) {
+    const Vector3d P = A + r * u, Pd = r * thd * u1, Pdd = r * (thdd * u1 - thd * thd * u);
+    return Vector3d(Rz(psi) * (Pdd + 2 * Om.cross(Pd) + Omd.cross(P) + Om.cross(Om.cross(P))));
+  };
+  const Vector3d gv(0, 0, -grav);
+  // the spring: from the slider's side (a, 0, s) to the rod's point at lm, tension k (L - L0) + c L_d
+  const Spring S = spring(th, y[2]);
+  const double Ld = S.L_th * thd + S.L_s * sd;
+  const Vector3d d = Rz(psi) * (A + lm * u - Vector3d(a, 0, y[2]));
+  const Vector3d F_spring = -(k * (S.L - L0) + c * Ld) * d / d.norm();  // on the rod
+  return mb * acc(0.5 * Lb) + mp * acc(Lb) - (mb + mp) * gv - F_spring;
+}
 
 // Runs model from the oracle's initial state (q, qd) to t_end and compares on the grid; to_bodies
 // turns pcsim's state into the four bodies, iFz is F_spindle_z's output index (-1: none).
 template <class ToBodies>
 Errors compare(const mech::Model& model, const std::vector<std::string>& active, const Eigen::VectorXd& q,
-               const Eigen::VectorXd& qd, double t_end, ToBodies to_bodies, int iFz) {
+               const Eigen::VectorXd& qd, double t_end, ToBodies to_bodies, int iFz, int iFh = -1) {
   Errors err;
   const double th0 = M_PI / 6, s0 = 0.5, psid0 = 2 * M_PI, p = Iz(th0) * psid0;
   const double grid = 0.01, dt = 1e-5;
@@ -308,6 +332,17 @@ Errors compare(const mech::Model& model, const std::vector<std::string>& active,
         err.F = std::max(err.F, std::abs(s.derived[iFz] - Fz));
         err.F_max = std::max(err.F_max, std::abs(Fz));
       }
+      if (iFh >= 0) {
+        // F_hinge1_x, _y, _z: in the hinge's frame, marker1's axes on the shaft, Rz(psi) times
+        // x = (1, 0, 0), y = (0, 0, -1), z = (0, 1, 0)
+        Matrix3d E1;
+        E1.col(0) = Rz(y[0]) * Vector3d(1, 0, 0);
+        E1.col(1) = Rz(y[0]) * Vector3d(0, 0, -1);
+        E1.col(2) = Rz(y[0]) * Vector3d(0, 1, 0);
+        const Vector3d Fj = E1.transpose() * hinge1_force(y, p);
+        for (int i = 0; i < 3; ++i) err.Fh = std::max(err.Fh, std::abs(s.derived[iFh + i] - Fj[i]));
+        err.Fh_max = std::max(err.Fh_max, Fj.cwiseAbs().maxCoeff());
+      }
       ++next;
     }
     return true;
@@ -330,7 +365,7 @@ Errors compare(const mech::Model& model, const std::vector<std::string>& active,
                      << err.s << " m, shaft rate " << err.w << " rad/s; angular momentum " << err.H << " of " << p
                      << " kg m^2/s; |E + W - E0| <= " << err.bal << " J, damper work " << W << " J (oracle "
                      << err.W_oracle << " J, difference " << std::abs(W - err.W_oracle) << " J); F_spindle_z: error "
-                     << err.F << " N of " << err.F_max << " N");
+                     << err.F << " N of " << err.F_max << " N; F_hinge1: error " << err.Fh << " N of " << err.Fh_max << " N");
   return err;
 }
 
@@ -366,14 +401,18 @@ int index_of(const std::vector<std::string>& names, const std::string& n) {
 //    over the first 4 ms, where the spring modes decay at ~6.6e3 1/s, then ~1e-3 s) stays at the
 //    initial energy; the dampers' work is also the oracle's;
 //  - the spindle's axial reaction F_spindle_z (joint frame = ground axes) is Newton's
-//    sum of m (z_dd + g) over the masses, with the oracle's accelerations.
+//    sum of m (z_dd + g) over the masses, with the oracle's accelerations;
+//  - rod 1's hinge force F_hinge1_x/_y/_z, in the hinge's frame (x radial outward, y down, z
+//    along the shaft's y, turning with the shaft), is Newton's for rod 1 and its ball: their m a
+//    (in the turning frame, with Coriolis and psi_dd terms) minus weight minus the spring's pull.
 // The bounds are about 100 rtol for the motion (the integrator's error with margin; the oracle's
 // own is below 1e-11), 1e-7 of E0 for the energy balance (1e-2 of the dampers' work, so the
-// work is resolved), 1e-4 of the work between the two dampers' works (quadrature), and 1e-5 of
-// the load for F_spindle_z (the springs carry k = 8e5 N/m times the position error, ~1e-9 m).
+// work is resolved), 1e-4 of the work between the two dampers' works (quadrature), 1e-5 of the
+// load for F_spindle_z and 5e-5 for F_hinge1 (the springs carry k = 8e5 N/m times the position
+// error, ~1e-9 m: 8e-4 N).
 // Measured (Release): rotations 9.4e-9, slider 1.6e-9 m, shaft rate 7.3e-8 rad/s, angular
 // momentum 6.9e-7 of 53.87, |E + W - E0| 2.8e-6 J of E0 = 238.9 J (W = 2.41e-3 J), the works
-// 2.3e-9 J apart, F_spindle_z 2.2e-4 N of 202 N.
+// 2.3e-9 J apart, F_spindle_z 2.2e-4 N of 202 N, F_hinge1 8.6e-4 N of 162 N.
 BOOST_AUTO_TEST_CASE(flyball_governor_in_absolute_coordinates_follows_the_minimal_coordinate_model) {
   // models/flyball_governor.toml without its three tree joints' coordinates: every body absolute
   std::string t = model_text();
@@ -392,16 +431,21 @@ BOOST_AUTO_TEST_CASE(flyball_governor_in_absolute_coordinates_follows_the_minima
     I.x[b] = index_of(names, std::string(body_name[b]) + "_x");
     I.e[b] = index_of(names, std::string(body_name[b]) + "_e0");
   }
-  int iFz = -1;
-  for (std::size_t i = 0; i < desc->outputs().size(); ++i)
+  int iFz = -1, iFh = -1;
+  for (std::size_t i = 0; i < desc->outputs().size(); ++i) {
     if (desc->outputs()[i].name == "F_spindle_z") iFz = static_cast<int>(i);
+    if (desc->outputs()[i].name == "F_hinge1_x") iFh = static_cast<int>(i);
+  }
   BOOST_REQUIRE(iFz >= 0);
+  BOOST_REQUIRE(iFh >= 0);
+  BOOST_REQUIRE(desc->outputs()[iFh + 1].name == "F_hinge1_y");
+  BOOST_REQUIRE(desc->outputs()[iFh + 2].name == "F_hinge1_z");
   BOOST_REQUIRE(desc->default_active_constraints().size() == 24u);
 
   Eigen::VectorXd q, qd;
   state_of(bodies(0, M_PI / 6, M_PI / 6, 0.5, 2 * M_PI, 0, 0, 0), I, model->n(), q, qd);
   const Errors e = compare(*model, desc->default_active_constraints(), q, qd, 0.25,
-                           [&](const Eigen::VectorXd& x, const Eigen::VectorXd& xd) { return bodies_of(x, xd, I); }, iFz);
+                           [&](const Eigen::VectorXd& x, const Eigen::VectorXd& xd) { return bodies_of(x, xd, I); }, iFz, iFh);
   BOOST_TEST(e.s_span > 0.1);  // it moves
   BOOST_TEST(e.R < 1e-6);
   BOOST_TEST(e.s < 1e-6);
@@ -412,6 +456,7 @@ BOOST_AUTO_TEST_CASE(flyball_governor_in_absolute_coordinates_follows_the_minima
   BOOST_TEST(e.bal < 1e-7 * e.E0);  // and so < 1e-2 of the dampers' work
   BOOST_TEST(e.bal < 1e-2 * e.W_oracle);
   BOOST_TEST(e.F < 1e-5 * e.F_max);
+  BOOST_TEST(e.Fh < 5e-5 * e.Fh_max);
 }
 
 // The model file as shipped: the shaft, rod 1 and rod 2 placed by their revolute joints' angles
