@@ -413,7 +413,16 @@ int index_of(const std::vector<std::string>& names, const std::string& n) {
 // Measured (Release): rotations 9.4e-9, slider 1.6e-9 m, shaft rate 7.3e-8 rad/s, angular
 // momentum 6.9e-7 of 53.87, |E + W - E0| 2.8e-6 J of E0 = 238.9 J (W = 2.41e-3 J), the works
 // 2.3e-9 J apart, F_spindle_z 2.2e-4 N of 202 N, F_hinge1 8.6e-4 N of 162 N.
-BOOST_AUTO_TEST_CASE(flyball_governor_in_absolute_coordinates_follows_the_minimal_coordinate_model) {
+// Not under the sanitizers (the Debug build): there this form's load and rank-revealing solves
+// cost 43 s of CPU for these 0.25 s and still 12 s for 0.02 s; the two Release builds of CI run
+// it, and the Debug build runs the relative form below (the same bodies, joints and forces).
+#ifdef NDEBUG
+constexpr bool kOptimized = true;
+#else
+constexpr bool kOptimized = false;
+#endif
+BOOST_AUTO_TEST_CASE(flyball_governor_in_absolute_coordinates_follows_the_minimal_coordinate_model,
+                     *boost::unit_test::enable_if<kOptimized>()) {
   // models/flyball_governor.toml without its three tree joints' coordinates: every body absolute
   std::string t = model_text();
   for (const char* c : {"psi", "th1", "th2"}) {
