@@ -91,7 +91,8 @@ class TimeDerivatives {
     if (!busy_.insert(name).second)
       x_.fail(key, "definitions that do not use one another in a cycle (the time derivative of '" +
                        name + "' uses itself)");
-    const auto& [dname, text] = src_.definitions[definition_index_.at(name)];
+    // A copy: defining the derivatives below grows src_.definitions.
+    const detail::ExprText text = src_.definitions[definition_index_.at(name)].second;
     const GiNaC::ex value = parser_.parse(text);
     const GiNaC::ex d = total_derivative(value, text.key);
     busy_.erase(name);
