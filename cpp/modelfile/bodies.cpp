@@ -1749,6 +1749,7 @@ void Expander::run() {
 
 void Expander::finish() {
   Impl& I = *impl_;
+  define_requested_kinematics(*this, *I.model);
   // A default drawing from the bodies' shapes, when the model has no [model.draw].
   bool any_shape = false;
   for (const Body& b : I.bodies) any_shape = any_shape || !b.shape.type.empty();

@@ -314,6 +314,13 @@ class Expander {
   detail::ModelSource& src_;
 };
 
+/// (bodies_kinematics.cpp) Defines the generated kinematic names that the outputs, definitions
+/// or drawing of `model` use and the user has not defined: angular velocities (BODY_w; BODY_wx,
+/// _wy, _wz), angular accelerations (BODY_alpha; BODY_alphax.., BODY_alpha1..) and marker
+/// accelerations (BODY_MARKER_ax, _ay, _az), the accelerations as total time derivatives of the
+/// velocities' definitions (outputs only). Called by Expander::finish().
+void define_requested_kinematics(Expander& x, const toml::table& model);
+
 /// True if the [model] table uses the body form (body, joint or force keys).
 bool has_body_form(const toml::table& model);
 /// The keys of [model] the body form adds.

@@ -175,6 +175,7 @@ class SpatialBody : public BodyKind {
     r.name = b.name + "_norm";
     r.holonomic = e_name(b, 0) + "^2 + " + e_name(b, 1) + "^2 + " + e_name(b, 2) + "^2 + " + e_name(b, 3) + "^2 - 1";
     x.add_constraint(r, b.key);
+    x.source().euler_bodies.push_back({b.name, {e_name(b, 0), e_name(b, 1), e_name(b, 2), e_name(b, 3)}});
   }
 
   // ½ m |v_c|² + ½ ω'ᵀ J ω' (+ ½ k (e·ė)² for a body with Euler parameters), in the named rates.

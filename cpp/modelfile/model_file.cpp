@@ -584,6 +584,7 @@ ModelDescription::ModelDescription(Parts parts) {
   for (const auto& [name, e] : src.outputs) outputs_.push_back({name, e.text});
   if (src.period) period_expression_ = src.period->text;
   slow_ = src.slow;
+  euler_bodies_ = src.euler_bodies;
   source_data_ = parts.source;
   compiled_ = std::move(parts.compiled);
 }

@@ -60,6 +60,14 @@ struct ConstraintSpec {
   std::string mu_kinetic;         ///< μ_k as written ("" = μ_s)
 };
 
+/// A spatial body placed by Euler parameters (body form, issue 22): a case may give its initial
+/// angular velocity (initial.NAME_w1..w3 in body axes or NAME_wx..wz in ground axes) instead of
+/// the rates of e0..e3 (docs/bodies-spatial.md).
+struct EulerBody {
+  std::string name;
+  std::vector<std::string> e;  ///< the coordinates e0, e1, e2, e3
+};
+
 /// A derived output column: `name = "expression"` in [model.outputs].
 struct OutputSpec {
   std::string name;
@@ -94,6 +102,8 @@ class ModelDescription {
   const std::optional<std::string>& period_expression() const { return period_expression_; }
   /// Coordinates declared slow (`[model] slow = ["s"]`), in file order.
   const std::vector<std::string>& slow_coordinates() const { return slow_; }
+  /// The spatial bodies placed by Euler parameters (body form), in body order.
+  const std::vector<EulerBody>& euler_bodies() const { return euler_bodies_; }
 
   /// The parameter with this name, or nullptr.
   const ParameterSpec* parameter(const std::string& name) const;
@@ -141,6 +151,7 @@ class ModelDescription {
   std::vector<OutputSpec> outputs_;
   std::optional<std::string> period_expression_;
   std::vector<std::string> slow_;
+  std::vector<EulerBody> euler_bodies_;
   std::shared_ptr<const void> source_data_;  // the parsed file (for with_constraints)
   std::shared_ptr<const CompiledModel> compiled_;
 };

@@ -51,6 +51,7 @@ struct ModelSource {
   std::vector<std::pair<std::string, ExprText>> outputs;  ///< in file order
   std::optional<ExprText> period;
   std::vector<std::string> slow;
+  std::vector<EulerBody> euler_bodies;  ///< body form: spatial bodies with Euler parameters
   DrawSpec draw;  ///< [model.draw] (issue 26); empty when the file has none
 };
 

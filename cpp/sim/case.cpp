@@ -114,6 +114,16 @@ bool model_has_period(const ModelSource& m) {
   return std::isfinite(m.period(p));
 }
 
+// The initial angular-velocity keys of a spatial body with Euler parameters: NAME_w1..w3 (the
+// components in body axes, as the generated definitions NAME_w1..w3), NAME_wx..wz (ground axes),
+// with the axis each names.
+std::vector<std::pair<std::string, std::string>> angular_velocity_keys(const EulerBody& b) {
+  return {{b.name + "_w1", "body x axis"}, {b.name + "_w2", "body y axis"}, {b.name + "_w3", "body z axis"},
+          {b.name + "_wx", "ground x axis"}, {b.name + "_wy", "ground y axis"}, {b.name + "_wz", "ground z axis"}};
+}
+
+const KeySpec* find(const std::vector<KeySpec>& keys, const std::string& dotted);
+
 // The model's keys (parameters, initial values, constraints) between the common keys of the
 // key table (sim/keys.hpp), then the client's.
 std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
@@ -133,6 +143,13 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
     keys.push_back(number_key("initial", c, "initial " + c, std::nullopt));
     keys.push_back(number_key("initial", c + "_d", "initial velocity of " + c, std::nullopt));
   }
+  // A spatial body's initial angular velocity (issue 22), instead of its Euler-parameter rates.
+  for (const auto& b : m.euler_bodies())
+    for (const auto& [name, axes] : angular_velocity_keys(b))
+      if (!find(keys, "initial." + name))
+        keys.push_back(number_key("initial", name,
+                                  "initial angular velocity of body " + b.name + " about its " + axes,
+                                  std::nullopt));
   // initial.from, unless the model has a coordinate of that name.
   if (std::find(m.coordinates().begin(), m.coordinates().end(), "from") == m.coordinates().end())
     keys.push_back(common_key("initial.from"));
@@ -432,6 +449,39 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
                                       "; activate one in [constraints]") + ")",
            "true");
   }
+  // A spatial body's initial angular velocity: in body axes or in ground axes, and not together
+  // with its Euler-parameter rates (both would set the same velocities).
+  for (const auto& b : r.model->euler_bodies()) {
+    const auto keys = angular_velocity_keys(b);
+    std::string body_key, ground_key, rate_key;
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      if (t["initial"][keys[i].first] && r.model->coordinate_index(keys[i].first) < 0) {
+        std::string& k = i < 3 ? body_key : ground_key;
+        if (k.empty()) k = "initial." + keys[i].first;
+      }
+    for (const auto& e : b.e)
+      if (rate_key.empty() && t["initial"][e + "_d"]) rate_key = "initial." + e + "_d";
+    if (!body_key.empty() && !ground_key.empty())
+      fail(file, ground_key,
+           "the angular velocity of body " + b.name + " in one frame: " + b.name + "_w1.." + b.name +
+               "_w3 (body axes) or " + b.name + "_wx.." + b.name + "_wz (ground axes), not both (" +
+               body_key + " is given too)");
+    if (!rate_key.empty() && !(body_key.empty() && ground_key.empty()))
+      fail(file, rate_key,
+           "either the angular velocity of body " + b.name + " (" + (body_key.empty() ? ground_key : body_key) +
+               ") or the rates of its Euler parameters (" + b.e[0] + "_d.." + b.e[3] +
+               "_d), not both (the angular velocity sets those rates)");
+    if (!(body_key.empty() && ground_key.empty())) {
+      double n2 = 0.0;
+      for (const auto& e : b.e) n2 += std::pow(t["initial"][e].value_or(0.0), 2);
+      if (!(n2 > 1e-12))
+        fail(file, "initial." + b.e[0],
+             "the orientation of body " + b.name + " (Euler parameters " + b.e[0] + ".." + b.e[3] +
+                 " not all 0; " + b.e[0] + " = 1 for the body frame aligned with ground) when " +
+                 (body_key.empty() ? ground_key : body_key) + " gives its angular velocity",
+             "all 0");
+    }
+  }
   if (t["output"]["summary_periods"] && t["output"]["summary_time"])
     fail(file, "output.summary_time",
          "either output.summary_periods or output.summary_time, not both (the summary window)");
@@ -677,6 +727,39 @@ Setup setup_of(const Case& c) {
     const std::string& name = m.coordinates()[i];
     s.q0[i] = t["initial"][name].value_or(0.0);
     s.qd0[i] = t["initial"][name + "_d"].value_or(0.0);
+  }
+  // A spatial body's initial angular velocity ω' (body axes) or ω (ground axes) gives the rates
+  // of its Euler parameters ė = ½ Gᵀ ω' = ½ Eᵀ ω at the (normalized) initial e
+  // (docs/bodies-spatial.md; fill_and_validate refused the key together with explicit rates).
+  for (const auto& b : m.euler_bodies()) {
+    const auto keys = angular_velocity_keys(b);
+    bool body = false, ground = false;
+    Eigen::Vector3d w = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      if (auto v = t["initial"][keys[i].first].value<double>();
+          v && m.coordinate_index(keys[i].first) < 0) {
+        (i < 3 ? body : ground) = true;
+        w[static_cast<int>(i % 3)] = *v;
+      }
+    if (!body && !ground) continue;
+    int idx[4];
+    Eigen::Vector4d e;
+    for (int k = 0; k < 4; ++k) {
+      idx[k] = m.coordinate_index(b.e[static_cast<std::size_t>(k)]);
+      e[k] = s.q0[idx[k]];
+    }
+    e /= e.norm();
+    Eigen::Matrix<double, 3, 4> G;
+    if (body)
+      G << -e[1], e[0], e[3], -e[2],  //
+          -e[2], -e[3], e[0], e[1],   //
+          -e[3], e[2], -e[1], e[0];
+    else
+      G << -e[1], e[0], -e[3], e[2],  //
+          -e[2], e[3], e[0], -e[1],   //
+          -e[3], -e[2], e[1], e[0];
+    const Eigen::Vector4d ed = 0.5 * G.transpose() * w;
+    for (int k = 0; k < 4; ++k) s.qd0[idx[k]] = ed[k];
   }
   for (const auto& con : m.constraints())
     if (t["constraints"][con.name].value_or(con.active_by_default)) s.active.push_back(con.name);

@@ -60,6 +60,11 @@ class FileModelSource final : public ModelSource {
   const std::vector<std::string>& outputs() const override { return outputs_; }
   double period(const ParameterValues& p) const override { return d_->period(p); }
   std::vector<std::string> slow_coordinates() const override { return d_->slow_coordinates(); }
+  std::vector<EulerBody> euler_bodies() const override {
+    std::vector<EulerBody> out;
+    for (const auto& b : d_->euler_bodies()) out.push_back({b.name, b.e});
+    return out;
+  }
   std::string definition_text() const override { return text_; }
 
   std::shared_ptr<const ModelSource> with_added_constraints(

@@ -50,6 +50,14 @@ struct AddedConstraint {
   std::string holonomic;  ///< Φ(q, t), an expression of the coordinates, t and parameters
 };
 
+/// A spatial body placed by Euler parameters (a body-form model file): a case may give its
+/// initial angular velocity by the keys initial.NAME_w1..w3 (body axes) or NAME_wx..wz (ground
+/// axes) instead of the rates of its Euler parameters e (docs/bodies-spatial.md).
+struct EulerBody {
+  std::string name;
+  std::vector<std::string> e;  ///< the coordinates e0, e1, e2, e3
+};
+
 class ModelSource {
  public:
   virtual ~ModelSource() = default;
@@ -71,6 +79,8 @@ class ModelSource {
   /// The model's slow coordinates ([model] slow): held at their value by `pcsim steady` and by
   /// the static equilibrium (docs/steady.md). Default: none.
   virtual std::vector<std::string> slow_coordinates() const { return {}; }
+  /// The spatial bodies placed by Euler parameters (initial angular-velocity keys). Default: none.
+  virtual std::vector<EulerBody> euler_bodies() const { return {}; }
   /// The model as a model file's text ([model] table; "" if it has none): a run writes it to
   /// model.toml beside its results, so `pcsim animate` draws the model the run ran.
   virtual std::string definition_text() const { return ""; }

@@ -117,3 +117,19 @@ BOOST_AUTO_TEST_CASE(hostile_model_files_end_with_exit_2) {
   with("coordinates = [\"x\", \"y\"]", "coordinates = [\"x\", \"y\", " + coords + "]");
   refused(d, "", "model.coordinates", {"at most 3000 coordinates"});
 }
+
+// Issue 22: a spatial body's initial angular velocity (initial.b_w1..w3, body axes, or
+// b_wx..wz, ground axes) together with the rates of its Euler parameters, or in both frames,
+// ends with exit 2 naming the key, and writes nothing.
+BOOST_AUTO_TEST_CASE(initial_angular_velocity_with_euler_rates_or_in_two_frames_ends_with_exit_2) {
+  Dir d;
+  std::ofstream(d.path / "m.toml") << "[model]\nname = \"spinner\"\n[model.body.b]\nkind = \"spatial\"\n"
+                                      "mass = 2.0\ninertia = [0.1, 0.2, 0.3]\n";
+  std::ofstream(d.path / "c.toml") << "model = \"m.toml\"\n[initial]\nb_e0 = 1.0\nb_w1 = 3.0\n"
+                                      "[solver]\nt_end = 0.01\n";
+  refused(d, "--set initial.b_e3_d=0.5", "initial.b_e3_d", {"not both", "b_e0_d..b_e3_d"});
+  refused(d, "--set initial.b_wy=0.5", "initial.b_wy", {"not both", "initial.b_w1 is given too"});
+  refused(d, "--set initial.b_e0=0", "initial.b_e0", {"not all 0"});
+  const Result r = sh("'" + exe() + "' run c.toml --out out", d.path);
+  BOOST_TEST(r.status == 0, r.out);
+}

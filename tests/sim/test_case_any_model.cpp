@@ -4,9 +4,13 @@
 #define BOOST_TEST_MODULE sim_case_any_model
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -211,4 +215,81 @@ BOOST_AUTO_TEST_CASE(a_case_without_model_needs_a_registered_default_model) {
     BOOST_TEST(what.find("no_model.toml") != std::string::npos, what);
     BOOST_TEST(what.find("key 'model'") != std::string::npos, what);
   }
+}
+
+// Issue 22: the initial angular velocity of a spatial body, given by the case in body axes
+// (initial.b_w1..w3) or in ground axes (initial.b_wx..wz), becomes the rates of its Euler
+// parameters ė = ½ Gᵀ ω' (docs/bodies-spatial.md), here written out by hand for the turn by
+// χ = 1.1 rad about u = (1, 2, 2)/3, e = (cos χ/2, u sin χ/2); the ground-axis key with ω = A ω'
+// (A by Rodrigues' formula, not from e) gives the same rates; the run starts with b_w1..3 = ω'.
+BOOST_AUTO_TEST_CASE(initial_angular_velocity_key_gives_the_hand_computed_euler_parameter_rates) {
+  const double chi = 1.1, c = std::cos(chi / 2), s = std::sin(chi / 2);
+  const double u[3] = {1.0 / 3, 2.0 / 3, 2.0 / 3};
+  const double e0 = c, e1 = u[0] * s, e2 = u[1] * s, e3 = u[2] * s;
+  const double w[3] = {0.7, -1.3, 2.1};  // body axes
+  // ė = ½ Gᵀ ω', G = [−e1 e0 e3 −e2; −e2 −e3 e0 e1; −e3 e2 −e1 e0]
+  const double ed[4] = {0.5 * (-e1 * w[0] - e2 * w[1] - e3 * w[2]), 0.5 * (e0 * w[0] - e3 * w[1] + e2 * w[2]),
+                        0.5 * (e3 * w[0] + e0 * w[1] - e1 * w[2]), 0.5 * (-e2 * w[0] + e1 * w[1] + e0 * w[2])};
+  // ω = A ω', A = cos χ I + sin χ [u]× + (1 − cos χ) u uᵀ
+  double wg[3];
+  for (int i = 0; i < 3; ++i) {
+    const double cross[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    const double udw = u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+    wg[i] = std::cos(chi) * w[i] + std::sin(chi) * cross[i] + (1 - std::cos(chi)) * u[i] * udw;
+  }
+  auto text = [&](const std::string& keys) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "[model]\nname = \"spinner\"\n[model.body.b]\nkind = \"spatial\"\nmass = 2.0\n"
+          "inertia = [0.1, 0.2, 0.3]\n[model.outputs]\nw1 = \"b_w1\"\nw2 = \"b_w2\"\nw3 = \"b_w3\"\n"
+          "[initial]\nb_x = 1000.0\nb_e0 = " << e0 << "\nb_e1 = " << e1 << "\nb_e2 = " << e2 << "\nb_e3 = " << e3
+       << "\n" << keys << "[solver]\nt_end = 0.01\n";
+    return os.str();
+  };
+  std::ostringstream body, ground;
+  body.precision(17);
+  ground.precision(17);
+  body << "b_w1 = " << w[0] << "\nb_w2 = " << w[1] << "\nb_w3 = " << w[2] << "\n";
+  ground << "b_wx = " << wg[0] << "\nb_wy = " << wg[1] << "\nb_wz = " << wg[2] << "\n";
+  for (const std::string& keys : {body.str(), ground.str()}) {
+    const Case k = load_case_text(text(keys), "spinner.toml");
+    const int i0 = k.model->coordinate_index("b_e0");
+    BOOST_REQUIRE(i0 >= 0);
+    for (int j = 0; j < 4; ++j) BOOST_TEST(std::abs(k.setup.qd0[i0 + j] - ed[j]) < 1e-15, "e" << j << "_d");
+    TempDir dir;
+    run_case(k, writing_to(dir.path / "out"));
+    std::ifstream csv(dir.path / "out" / "timeseries.csv");
+    std::string header, first;
+    std::getline(csv, header);
+    std::getline(csv, first);
+    // the first row's outputs w1..w3
+    std::vector<double> v;
+    std::vector<std::string> names;
+    std::stringstream ss(first), hs(header);
+    for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
+    for (std::string cell; std::getline(hs, cell, ',');) names.push_back(cell);
+    const std::size_t iw = static_cast<std::size_t>(std::find(names.begin(), names.end(), "w1") - names.begin());
+    BOOST_REQUIRE(iw + 2 < v.size());
+    for (std::size_t j = 0; j < 3; ++j) BOOST_TEST(std::abs(v[iw + j] - w[j]) < 1e-14, "w" << j + 1);
+  }
+}
+
+// The same key with explicit Euler-parameter rates, in both frames at once, or without an
+// orientation is refused naming the key (the CLI's exit 2: test_hostile_model_cli).
+BOOST_AUTO_TEST_CASE(initial_angular_velocity_conflicts_are_refused_naming_the_key) {
+  const std::string model = "[model]\nname = \"spinner\"\n[model.body.b]\nkind = \"spatial\"\nmass = 2.0\n"
+                            "inertia = [0.1, 0.2, 0.3]\n";
+  auto err = [&](const std::string& initial) {
+    return error_of([&] { load_case_text(model + "[initial]\n" + initial, "bad.toml"); });
+  };
+  const std::string a = err("b_e0 = 1.0\nb_w1 = 1.0\nb_e2_d = 0.5\n");
+  BOOST_TEST(has(a, "bad.toml: key 'initial.b_e2_d'"), a);
+  BOOST_TEST(has(a, "not both"), a);
+  const std::string b = err("b_e0 = 1.0\nb_w1 = 1.0\nb_wz = 0.5\n");
+  BOOST_TEST(has(b, "bad.toml: key 'initial.b_wz'"), b);
+  BOOST_TEST(has(b, "initial.b_w1 is given too"), b);
+  const std::string c = err("b_w3 = 1.0\n");
+  BOOST_TEST(has(c, "bad.toml: key 'initial.b_e0'"), c);
+  BOOST_TEST(has(c, "not all 0"), c);
+  BOOST_TEST(error_of([&] { load_case_text(model + "[initial]\nb_e0 = 1.0\nb_wy = 2.0\n", "good.toml"); }).empty());
 }
