@@ -251,6 +251,22 @@ void register_spatial_joint_type(std::shared_ptr<const JointType> type);
 /// { at = [...], axis = [ax, ay, az], angle = "..." }: the body frame turned by angle about axis.
 Mat3 spatial_marker_axes(Expander& x, const toml::table& t, const std::string& key);
 
+/// (CONTACT, bodies_contact.cpp) The contact attributes of issue 12 on a joint's rows
+/// (docs/bodies.md "Contact"): the joint keys `unilateral`, `restitution`, `mu_static`,
+/// `mu_kinetic`, accepted only by the joints that can lift off or slip.
+const std::vector<std::string>& contact_keys();
+/// True if the joint's table has any of contact_keys().
+bool has_contact_keys(const Joint& j);
+/// Reads them onto `normal` (unilateral, restitution) and `friction` (mu_static, mu_kinetic,
+/// friction = normal's name), checking them (at the parameters' defaults where they are
+/// numbers). `friction` null: mu_static/mu_kinetic are refused with `no_friction` as the reason.
+void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
+                        const std::string& no_friction = "");
+/// Fails (naming the first contact key of the joint) with `why` if the joint has any.
+void refuse_contact_keys(Expander& x, const Joint& j, const std::string& why);
+/// A number for an expression of the parameters at their defaults (NaN if it is not one).
+double default_parameter_value(Expander& x, const Expr& e, const std::string& key);
+
 /// The expansion of one [model] table: used by the parser; the kinds, joints and forces call
 /// back into it to read keys and to add to the energy form.
 class Expander {
