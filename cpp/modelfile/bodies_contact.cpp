@@ -31,6 +31,14 @@ void refuse_contact_keys(Expander& x, const Joint& j, const std::string& why) {
     if (j.table->get(k)) x.fail(j.key + "." + k, why);
 }
 
+namespace {
+// "got TEXT = VALUE" (the value only when the text is not that number already).
+std::string got(const Expr& e, double v) {
+  const std::string n = format_number(v);
+  return "got " + e + (e == n ? "" : " = " + n);
+}
+}  // namespace
+
 void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
                         const std::string& no_friction) {
   const toml::table& t = *j.table;
@@ -46,7 +54,7 @@ void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
     const double v = value(e, "restitution");
     if (!std::isnan(v) && !(v >= 0.0 && v <= 1.0))
       x.fail(j.key + ".restitution",
-             "Newton's restitution coefficient in [0, 1], got " + e + " = " + format_number(v));
+             "Newton's restitution coefficient in [0, 1], " + got(e, v));
     normal.restitution = e;
   }
   const Expr ms = x.optional(t, j.key, "mu_static");
@@ -62,12 +70,12 @@ void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
            "force by the normal force of a contact that can open)");
   const double s = value(ms, "mu_static");
   if (!std::isnan(s) && !(s >= 0.0 && std::isfinite(s)))
-    x.fail(j.key + ".mu_static", "a static friction coefficient >= 0, got " + ms + " = " + format_number(s));
+    x.fail(j.key + ".mu_static", "a static friction coefficient >= 0, " + got(ms, s));
   if (!mk.empty()) {
     const double k = value(mk, "mu_kinetic");
     if (!std::isnan(k) && !std::isnan(s) && !(k >= 0.0 && k <= s))
       x.fail(j.key + ".mu_kinetic", "a kinetic friction coefficient in [0, mu_static = " +
-                                        format_number(s) + "], got " + mk + " = " + format_number(k));
+                                        format_number(s) + "], " + got(mk, k));
   }
   friction->mu_static = ms;
   friction->mu_kinetic = mk;
