@@ -213,8 +213,8 @@ class JointType {
  public:
   virtual ~JointType() = default;
   virtual std::string name() const = 0;
-  /// Type-specific keys accepted besides type, body1, marker1, body2, marker2, coordinates and
-  /// the contact attributes.
+  /// Type-specific keys accepted besides type, body1, marker1, body2, marker2 and coordinates
+  /// (the joints that can lift off or slip list contact_keys() here).
   virtual std::vector<std::string> extra_keys() const { return {}; }
   /// Number of coordinates this joint takes as a tree joint (0: it cannot be one); for a
   /// planar first body.
