@@ -437,3 +437,4 @@ g = [0, "-g"]
     BOOST_CHECK_LT(e_drift, 1e-7 * g);
   }
 }
+
