@@ -933,6 +933,7 @@ class Distance : public JointType {
 class PointOnLine : public JointType {
  public:
   std::string name() const override { return "point_on_line"; }
+  std::vector<std::string> extra_keys() const override { return contact_keys(); }
   void rows(Expander& x, Joint& j) const override {
     const Body& b1 = x.body(j.body1, j.key + ".body1");
     const Body& b2 = x.body(j.body2, j.key + ".body2");
@@ -942,8 +943,39 @@ class PointOnLine : public JointType {
     Row r;
     r.name = j.name;
     r.holonomic = dot(column(x.marker_axes(b1, m1), 1), d);
+    if (has_contact_keys(j)) {
+      point_on_line_contact(x, j, r);
+      return;
+    }
     j.rows.push_back(r);
     j.force[1] = "lambda_" + r.name;
+    j.has_reaction = true;
+  }
+
+ private:
+  // The contact attributes (bodies_contact.cpp): the row is the gap (marker2 on the +y side of
+  // marker1's x axis); with mu_static a second row <joint>_slide, the sliding velocity of
+  // marker2 relative to body1's material point under it, along the line (velocity form).
+  static void point_on_line_contact(Expander& x, Joint& j, Row& gap) {
+    const Body& b1 = x.body(j.body1, j.key + ".body1");
+    const Body& b2 = x.body(j.body2, j.key + ".body2");
+    const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
+    const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
+    Row slide;
+    slide.name = j.name + "_slide";
+    read_joint_contact(x, j, gap, &slide);
+    j.rows.push_back(gap);
+    j.force[1] = "lambda_" + gap.name;
+    if (!slide.friction.empty()) {
+      const LinVec3 v2 = x.marker_velocity(b2, m2);
+      const LinVec3 v1 = x.point_velocity(b1, x.marker_position(b2, m2));
+      LinVec3 rel;
+      for (int i = 0; i < 3; ++i) rel[i] = add(v2[i], scale("-1", v1[i]));
+      slide.velocity = dot(column(x.marker_axes(b1, m1), 0), rel);
+      slide.velocity_form = true;
+      j.rows.push_back(slide);
+      j.force[0] = "lambda_" + slide.name;
+    }
     j.has_reaction = true;
   }
 };
@@ -965,7 +997,11 @@ class Gear : public JointType {
 class Rolling : public JointType {
  public:
   std::string name() const override { return "rolling"; }
-  std::vector<std::string> extra_keys() const override { return {"radius", "form", "row_names"}; }
+  std::vector<std::string> extra_keys() const override {
+    std::vector<std::string> k{"radius", "form", "row_names"};
+    for (const auto& c : contact_keys()) k.push_back(c);
+    return k;
+  }
   void rows(Expander& x, Joint& j) const override;
 };
 
@@ -1098,18 +1134,12 @@ void Rolling::rows(Expander& x, Joint& j) const {
     roll.velocity = dot(tg, rel);
     roll.velocity_form = true;
   }
-  if (auto u = t.get("unilateral")) contact.unilateral = x.boolean(*u, j.key + ".unilateral");
-  contact.restitution = x.optional(t, j.key, "restitution");
-  if (!contact.restitution.empty() && !contact.unilateral)
-    x.fail(j.key + ".restitution", "restitution only with unilateral = true");
-  roll.mu_static = x.optional(t, j.key, "mu_static");
-  roll.mu_kinetic = x.optional(t, j.key, "mu_kinetic");
-  if (!roll.mu_static.empty()) {
-    if (!contact.unilateral) x.fail(j.key + ".mu_static", "friction (mu_static) only with unilateral = true");
-    roll.friction = contact.name;
-  } else if (!roll.mu_kinetic.empty()) {
-    x.fail(j.key + ".mu_kinetic", "mu_kinetic only with mu_static");
-  }
+  read_joint_contact(x, j, contact, &roll);  // bodies_contact.cpp
+  if (contact.unilateral && roll.friction.empty())
+    x.fail(j.key + ".mu_static",
+           "Coulomb's static coefficient with unilateral = true: the rolling row is then the "
+           "contact's friction row, released in flight and in slip (without it the wheel would "
+           "keep rolling in the air)");
   j.rows.push_back(contact);
   j.rows.push_back(roll);
   j.force[0] = "lambda_" + roll.name;
@@ -1364,6 +1394,14 @@ double default_value(Expander& x, const Expr& e, const std::string& key) {
   return std::nan("");
 }
 
+}  // namespace
+
+double default_parameter_value(Expander& x, const Expr& e, const std::string& key) {
+  return default_value(x, e, key);
+}
+
+namespace {
+
 Marker read_marker(Expander& x, const Body& b, bool planar, const std::string& name,
                    const toml::node& node, const std::string& key) {
   Marker m;
@@ -1549,15 +1587,18 @@ void Expander::run() {
         fail(key + ".type", "a joint type (one of: " + join(std::vector<std::string>(all.begin(), all.end())) + "), got '" + j.type + "'");
       }
       const JointType& type = it != reg.joints.end() ? *it->second : *sit->second;
-      std::vector<std::string> allowed{"type", "body1", "marker1", "body2", "marker2", "coordinates",
-                                       "unilateral", "restitution", "mu_static", "mu_kinetic"};
+      std::vector<std::string> allowed{"type", "body1", "marker1", "body2", "marker2", "coordinates"};
       for (const auto& e : type.extra_keys()) allowed.push_back(e);
       if (sit != reg.spatial_joints.end())
         for (const auto& e : sit->second->extra_keys()) allowed.push_back(e);
       for (auto&& [k, v] : *t) {
         const std::string kk(k.str());
-        if (std::find(allowed.begin(), allowed.end(), kk) == allowed.end())
+        if (std::find(allowed.begin(), allowed.end(), kk) == allowed.end()) {
+          const auto& ck = contact_keys();  // bodies_contact.cpp
+          if (std::find(ck.begin(), ck.end(), kk) != ck.end())
+            fail(key + "." + kk, "contact attributes (" + join(ck) + ") only on a joint that can lift off or slip (rolling, point_on_line; spatial: point_on_plane); a '" + j.type + "' joint's rows are bilateral");
           fail(key + "." + kk, "unknown key (expected one of: " + join(allowed) + ")");
+        }
       }
       const bool needs_bodies = j.type != "drive" && j.type != "gear";
       j.body1 = "ground";

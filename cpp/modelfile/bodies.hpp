@@ -213,8 +213,8 @@ class JointType {
  public:
   virtual ~JointType() = default;
   virtual std::string name() const = 0;
-  /// Type-specific keys accepted besides type, body1, marker1, body2, marker2, coordinates and
-  /// the contact attributes.
+  /// Type-specific keys accepted besides type, body1, marker1, body2, marker2 and coordinates
+  /// (the joints that can lift off or slip list contact_keys() here).
   virtual std::vector<std::string> extra_keys() const { return {}; }
   /// Number of coordinates this joint takes as a tree joint (0: it cannot be one); for a
   /// planar first body.
@@ -250,6 +250,22 @@ void register_spatial_joint_type(std::shared_ptr<const JointType> type);
 /// (BODIES-SPATIAL, bodies_spatial.cpp) A spatial marker's axes (marker -> body) from its table
 /// { at = [...], axis = [ax, ay, az], angle = "..." }: the body frame turned by angle about axis.
 Mat3 spatial_marker_axes(Expander& x, const toml::table& t, const std::string& key);
+
+/// (CONTACT, bodies_contact.cpp) The contact attributes of issue 12 on a joint's rows
+/// (docs/bodies.md "Contact"): the joint keys `unilateral`, `restitution`, `mu_static`,
+/// `mu_kinetic`, accepted only by the joints that can lift off or slip.
+const std::vector<std::string>& contact_keys();
+/// True if the joint's table has any of contact_keys().
+bool has_contact_keys(const Joint& j);
+/// Reads them onto `normal` (unilateral, restitution) and `friction` (mu_static, mu_kinetic,
+/// friction = normal's name), checking them (at the parameters' defaults where they are
+/// numbers). `friction` null: mu_static/mu_kinetic are refused with `no_friction` as the reason.
+void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
+                        const std::string& no_friction = "");
+/// Fails (naming the first contact key of the joint) with `why` if the joint has any.
+void refuse_contact_keys(Expander& x, const Joint& j, const std::string& why);
+/// A number for an expression of the parameters at their defaults (NaN if it is not one).
+double default_parameter_value(Expander& x, const Expr& e, const std::string& key);
 
 /// The expansion of one [model] table: used by the parser; the kinds, joints and forces call
 /// back into it to read keys and to add to the energy form.

@@ -285,6 +285,36 @@ class SpatialPair : public JointType {
   std::string name_;
 };
 
+// A point on a plane (row <joint>_z: d·w1, marker2 above marker1's x-y plane) that can lift off
+// (CONTACT): `unilateral`, `restitution` on that row (a distance: its multiplier is the normal
+// force in N). Friction in the plane would need two friction rows at one contact, and the
+// switching engine's friction is planar (one row per contact, docs/switching.md "Limits").
+class SpatialPointOnPlane : public JointType {
+ public:
+  std::string name() const override { return "point_on_plane"; }
+  std::vector<std::string> extra_keys() const override { return contact_keys(); }
+  void rows(Expander& x, Joint& j) const override {
+    pair_rows(x, j, {false, false, true, false, false});
+    if (has_contact_keys(j))
+      read_joint_contact(x, j, j.rows.back(), nullptr,
+                         "no friction on a point_on_plane: sliding in a plane needs two friction "
+                         "rows at one contact, and the switching engine's friction is planar (one "
+                         "row per contact); a planar model's point_on_line takes mu_static");
+  }
+};
+
+// A point on a line in space: its two rows have no side to lift off to (no gap row).
+class SpatialPointOnLine : public JointType {
+ public:
+  std::string name() const override { return "point_on_line"; }
+  void rows(Expander& x, Joint& j) const override {
+    refuse_contact_keys(x, j, "no contact attributes on a spatial point_on_line: its two rows (x, y) "
+                              "have no side to lift off to (no gap); a point_on_plane, or a planar "
+                              "point_on_line, takes them");
+    pair_rows(x, j, {true, true, false, false, false});
+  }
+};
+
 // Revolute joint: the markers coincide and their z axes are parallel (rows <joint>_x, _y, _z,
 // _ax, _ay); as a tree joint (`coordinates = ["angle"]`) it places body2 by the angle of
 // marker2's x axis from marker1's about their common z axis (no rows, no Euler parameters for
@@ -385,8 +415,15 @@ class SpatialDistance : public JointType {
 class SpatialWheel : public JointType {
  public:
   std::string name() const override { return "wheel"; }
-  std::vector<std::string> extra_keys() const override { return {"radius"}; }
+  std::vector<std::string> extra_keys() const override {
+    std::vector<std::string> k{"radius"};
+    for (const auto& c : contact_keys()) k.push_back(c);
+    return k;
+  }
   void rows(Expander& x, Joint& j) const override {
+    refuse_contact_keys(x, j, "no contact attributes on a wheel yet: its no-slip rows x, y would both be "
+                              "friction rows of one contact, and the switching engine's friction is "
+                              "planar (one row per contact; docs/bodies-spatial.md \"Limits\")");
     const Frames f = frames(x, j);
     const Expr r = x.required(*j.table, j.key, "radius", "the wheel's radius (an expression)");
     const Vec3 n = column(f.E1, 2), a = column(f.E2, 2);
@@ -471,14 +508,14 @@ void register_spatial_bodies() {
   // Lower pairs: rows in the joint frame (marker1's axes).
   register_joint_type(std::make_shared<SpatialPair<true, true, true, false, false>>("spherical"));
   register_joint_type(std::make_shared<SpatialPair<true, true, false, true, false>>("cylindrical"));
-  register_joint_type(std::make_shared<SpatialPair<false, false, true, false, false>>("point_on_plane"));
+  register_joint_type(std::make_shared<SpatialPointOnPlane>());
   register_joint_type(std::make_shared<SpatialUniversal>());
   register_joint_type(std::make_shared<SpatialWheel>());
   register_spatial_joint_type(std::make_shared<SpatialRevolute>());
   register_spatial_joint_type(std::make_shared<SpatialPair<true, true, false, true, true>>("prismatic"));
   register_spatial_joint_type(std::make_shared<SpatialPair<true, true, true, true, true>>("fixed"));
   register_spatial_joint_type(std::make_shared<SpatialPair<false, false, true, true, false>>("planar"));
-  register_spatial_joint_type(std::make_shared<SpatialPair<true, true, false, false, false>>("point_on_line"));
+  register_spatial_joint_type(std::make_shared<SpatialPointOnLine>());
   register_spatial_joint_type(std::make_shared<SpatialDistance>());
 }
 

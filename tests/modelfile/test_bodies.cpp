@@ -18,6 +18,8 @@
 #include "modelfile/model_source.hpp"
 #include "modelfile_test_util.hpp"
 
+#include "mech/contacts/switching.hpp"  // the contact joints' test
+
 using namespace pcsim;
 using namespace pcsim::modelfile;
 using namespace pcsim::modelfile::testing;
@@ -113,6 +115,67 @@ BOOST_AUTO_TEST_CASE(expanded_text_reads_back_to_bit_identical_equations_and_out
         BOOST_CHECK(oa[i] == ob[i] || (std::isnan(oa[i]) && std::isnan(ob[i])));
     }
     BOOST_CHECK(a->derived_names() == b->derived_names());
+  }
+}
+
+// `pcsim expand` of a body model whose joints carry contact attributes (issue 22 with issue 12's):
+// the printed rows carry them (unilateral, restitution, friction, mu_static, mu_kinetic), the
+// expanded file gives the same contact data, and a switching run of it is the body model's, bit
+// for bit: the disk spun backwards on its rolling joint (one stick), the ball on its point_on_line
+// joint (impacts, accumulation).
+BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_as_the_body_model) {
+  struct Case {
+    std::string file;
+    std::vector<std::string> printed;
+    Eigen::VectorXd q0, qd0;
+  };
+  const std::vector<Case> cases{
+      {"contact/disk_incline_bodies.toml",
+       {"name = \"road_contact\"\n", "unilateral = true\nrestitution = \"e_n\"\n",
+        "friction = \"road_contact\"\nmu_static = \"mu_s\"\nmu_kinetic = \"mu_k\"\n"},
+       Eigen::Vector3d(0.2 * std::sin(0.5), 0.2 * std::cos(0.5), 0.0), Eigen::Vector3d(0.0, 0.0, -10.0)},
+      {"contact/bouncing_ball_bodies.toml",
+       {"name = \"floor\"\nholonomic = \"ball_y - Y0\"\nunilateral = true\nrestitution = \"e_n\"\n"},
+       Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(0.1, 0.0)}};
+  for (const Case& c : cases) {
+    BOOST_TEST_CONTEXT(c.file) {
+      const auto src = detail::load_model_source(model_path(c.file));
+      const std::string text = bodies::energy_form_text(src);
+      for (const auto& p : c.printed) BOOST_TEST(text.find(p) != std::string::npos, "printed: " << p);
+      const auto a = load_model_file(model_path(c.file))->instantiate({}, c.q0, 0.0);
+      const auto b = load_model_text(text, "expanded.toml")->instantiate({}, c.q0, 0.0);
+      BOOST_REQUIRE_EQUAL(a->constraints().size(), b->constraints().size());
+      int contacts = 0;
+      for (std::size_t i = 0; i < a->constraints().size(); ++i) {
+        const mech::ContactInfo &ca = a->constraints()[i].contact, &cb = b->constraints()[i].contact;
+        BOOST_TEST(a->constraints()[i].name == b->constraints()[i].name);
+        BOOST_TEST(ca.unilateral == cb.unilateral);
+        BOOST_TEST(ca.restitution == cb.restitution);
+        BOOST_TEST(ca.friction_of == cb.friction_of);
+        BOOST_TEST(ca.mu_static == cb.mu_static);
+        BOOST_TEST(ca.mu_kinetic == cb.mu_kinetic);
+        contacts += ca.unilateral ? 1 : 0;
+      }
+      BOOST_TEST(contacts == 1);
+      mech::SimulationOptions o;
+      o.t_end = 1.5;
+      o.rtol = o.atol = 1e-10;
+      for (const auto& ci : a->constraints()) o.active_constraints.push_back(ci.name);
+      mech::SwitchingOptions sw;
+      sw.zeno_time = 1e-9;
+      const auto ra = mech::simulate_switching(*a, c.q0, c.qd0, o, sw);
+      const auto rb = mech::simulate_switching(*b, c.q0, c.qd0, o, sw);
+      BOOST_REQUIRE_MESSAGE(ra.status == mech::SimulationStatus::success, ra.message);
+      BOOST_REQUIRE_MESSAGE(rb.status == mech::SimulationStatus::success, rb.message);
+      BOOST_TEST(!ra.events.empty());
+      BOOST_REQUIRE_EQUAL(ra.events.size(), rb.events.size());
+      for (std::size_t i = 0; i < ra.events.size(); ++i) {
+        BOOST_TEST(ra.events[i].kind == rb.events[i].kind);
+        BOOST_TEST(ra.events[i].t == rb.events[i].t);
+      }
+      BOOST_TEST(ra.q_end == rb.q_end);
+      BOOST_TEST(ra.qd_end == rb.qd_end);
+    }
   }
 }
 

@@ -145,3 +145,75 @@ BOOST_AUTO_TEST_CASE(a_prescribed_motion_uses_time_and_parameters_only) {
   expect_error(kBase + "[model.joint.j]\ntype = \"revolute\"\nbody2 = \"a\"\nmotion = [\"a_x*t\"]\n",
                {"model.joint.j.motion", "unknown name 'a_x'"});
 }
+
+// ---- Contact attributes on joints (issue 22 with issue 12's attributes; docs/bodies.md
+// "Contact on joints"). The base: body a on a point_on_line joint to ground's line.
+namespace {
+std::string on_line(const std::string& keys) {
+  return kBase + "[model.parameters.mu]\nvalue = 0.3\n[model.joint.c]\ntype = \"point_on_line\"\nbody2 = \"a\"\n" + keys;
+}
+std::string on_roll(const std::string& keys) {
+  return kBase + "[model.joint.w]\ntype = \"rolling\"\nbody2 = \"a\"\nradius = \"L\"\n" + keys;
+}
+// A spatial body over ground's plane.
+const std::string kSpatial = R"([model]
+name = "m"
+[model.body.ground]
+markers = { floor = [0, 0, 0] }
+[model.body.s]
+kind = "spatial"
+mass = 1
+inertia = [1, 1, 1]
+)";
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(the_contact_attributes_load_on_the_joints_that_can_lift_off_or_slip) {
+  BOOST_CHECK_EQUAL(error_of(on_line("unilateral = true\nrestitution = 0.5\nmu_static = \"mu\"\nmu_kinetic = 0.2\n")), "");
+  BOOST_CHECK_EQUAL(error_of(on_roll("unilateral = true\nmu_static = 0.3\n")), "");
+  BOOST_CHECK_EQUAL(error_of(kSpatial + "[model.joint.p]\ntype = \"point_on_plane\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n"
+                                        "unilateral = true\nrestitution = 0.5\n"), "");
+}
+
+BOOST_AUTO_TEST_CASE(contact_attributes_on_a_joint_that_cannot_lift_off_are_refused) {
+  expect_error(kBase + "[model.joint.j]\ntype = \"revolute\"\nbody2 = \"a\"\nunilateral = true\n",
+               {"model.joint.j.unilateral", "only on a joint that can lift off or slip", "'revolute'", "point_on_line"});
+  expect_error(kBase + "[model.joint.j]\ntype = \"distance\"\nbody2 = \"a\"\nlength = 1\nmu_static = 0.3\n",
+               {"model.joint.j.mu_static", "only on a joint that can lift off or slip", "'distance'"});
+  expect_error(kBase + "[model.joint.j]\ntype = \"prismatic\"\nbody2 = \"a\"\ncoordinates = [\"p\"]\nrestitution = 0.5\n",
+               {"model.joint.j.restitution", "only on a joint that can lift off or slip"});
+}
+
+BOOST_AUTO_TEST_CASE(restitution_or_friction_without_a_unilateral_gap_row_is_refused) {
+  expect_error(on_line("restitution = 0.5\n"), {"model.joint.c.restitution", "only with unilateral = true"});
+  expect_error(on_line("mu_static = 0.3\n"), {"model.joint.c.mu_static", "only with unilateral = true"});
+  expect_error(on_line("unilateral = true\nmu_kinetic = 0.2\n"), {"model.joint.c.mu_kinetic", "only with mu_static"});
+  // A rolling joint that may lift off needs its rolling row released in flight: friction.
+  expect_error(on_roll("unilateral = true\n"), {"model.joint.w.mu_static", "in the air"});
+  // A point on a line in space has two rows and no side: no gap.
+  expect_error(kSpatial + "[model.joint.l]\ntype = \"point_on_line\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nunilateral = true\n",
+               {"model.joint.l.unilateral", "no side", "point_on_plane"});
+  // Friction on a plane (two tangential rows) and on a spatial wheel: the engine's is planar.
+  expect_error(kSpatial + "[model.joint.p]\ntype = \"point_on_plane\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n"
+                          "unilateral = true\nmu_static = 0.3\n",
+               {"model.joint.p.mu_static", "no friction on a point_on_plane", "one row per contact"});
+  expect_error(kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nradius = 0.3\n"
+                          "unilateral = true\n",
+               {"model.joint.w.unilateral", "wheel", "one row per contact"});
+}
+
+BOOST_AUTO_TEST_CASE(coefficients_outside_their_ranges_are_refused_at_the_defaults) {
+  expect_error(on_line("unilateral = true\nmu_static = \"mu\"\nmu_kinetic = 0.5\n"),
+               {"model.joint.c.mu_kinetic", "a kinetic friction coefficient in [0, mu_static = 0.3]", "0.5"});
+  expect_error(on_line("unilateral = true\nmu_static = -0.1\n"), {"model.joint.c.mu_static", ">= 0", "-0.1"});
+  expect_error(on_line("unilateral = true\nrestitution = 1.5\n"), {"model.joint.c.restitution", "[0, 1]", "1.5"});
+  // A case's value is checked when the model is instantiated, naming the generated row.
+  const auto d = load_model_text(on_line("unilateral = true\nmu_static = \"mu\"\nmu_kinetic = 0.2\n"), "m.toml");
+  const std::string e = input_error_of([&] { d->instantiate({{"mu", 0.1}}); });
+  BOOST_CHECK_MESSAGE(contains_all(e, {"m.toml", "model.constraint[c_slide].mu_kinetic", "mu_static = 0.1"}), e);
+}
+
+BOOST_AUTO_TEST_CASE(unknown_keys_of_a_contact_joint_name_the_key) {
+  expect_error(on_line("unilateral = true\ngap_side = -1\n"), {"model.joint.c.gap_side", "unknown key", "unilateral", "mu_kinetic"});
+  expect_error(on_line("unilateral = true\nfriction = \"c\"\n"), {"model.joint.c.friction", "unknown key"});
+  expect_error(on_line("unilateral = \"yes\"\n"), {"model.joint.c.unilateral"});
+}

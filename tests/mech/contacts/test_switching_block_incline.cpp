@@ -116,3 +116,40 @@ BOOST_AUTO_TEST_CASE(friction_law_replaces_an_ideality_row_in_both_formulations)
     }
   }
 }
+
+// ---- The same block written with bodies and joints (issue 22): a particle on a `point_on_line`
+// joint with the contact attributes, whose mu_static adds the sliding row `rest_slide`
+// (models/contact/block_incline_bodies.toml). Pushed up the slope (v0 along -x of the slope's
+// frame) it stops at the closed-form instant and then sticks (alpha = 0.3, tan < mu_s) or slides
+// back (alpha = 0.5): the same event at the same time as the energy-form block, the same state.
+BOOST_AUTO_TEST_CASE(block_as_a_body_on_a_point_on_line_joint_stops_and_sticks_or_reverses_as_the_energy_form) {
+  const double mu_k = 0.3, v0 = 2.0, T = 1.5;
+  for (double alpha : {0.3, 0.5}) {
+    BOOST_TEST_CONTEXT("alpha = " << alpha) {
+      const std::map<std::string, double> p{{"alpha", alpha}, {"mu_s", 0.4}, {"mu_k", mu_k}};
+      SimulationOptions o;
+      o.rtol = o.atol = 1e-10;
+      auto mb = contact_model("block_incline_bodies", p, v2(0.0, 0.0));
+      const Eigen::Vector2d t(std::cos(alpha), -std::sin(alpha));  // down the slope, ground axes
+      const auto b = run(*mb, v2(0.0, 0.0), -v0 * t, T, o);
+      auto me = contact_model("block_incline", p);
+      const auto e = run(*me, v2(0.0, 0.0), v2(-v0, 0.0), T, o);
+      BOOST_REQUIRE_MESSAGE(b.status == SimulationStatus::success, b.message);
+      BOOST_REQUIRE_MESSAGE(e.status == SimulationStatus::success, e.message);
+      const double up = kG * (std::sin(alpha) + mu_k * std::cos(alpha));
+      const double ts = v0 / up;
+      BOOST_REQUIRE_EQUAL(b.events.size(), 1u);
+      BOOST_TEST(b.events[0].kind == (alpha < 0.4 ? ContactEventKind::stick : ContactEventKind::reversal));
+      BOOST_TEST(std::abs(b.events[0].t - ts) < 1e-12);
+      BOOST_REQUIRE_EQUAL(e.events.size(), 1u);
+      BOOST_TEST(e.events[0].kind == b.events[0].kind);
+      BOOST_TEST(std::abs(e.events[0].t - b.events[0].t) < 1e-12);
+      BOOST_TEST(std::abs(e.events[0].normal - b.events[0].normal) < 1e-10);
+      // Position and speed along the slope; the block stays on it.
+      const double s = b.q_end.dot(t), v = b.qd_end.dot(t);
+      BOOST_TEST(std::abs(s - e.q_end[0]) < 1e-10);
+      BOOST_TEST(std::abs(v - e.qd_end[0]) < 1e-10);
+      BOOST_TEST(std::abs(b.q_end[0] * std::sin(alpha) + b.q_end[1] * std::cos(alpha)) < 1e-12);
+    }
+  }
+}

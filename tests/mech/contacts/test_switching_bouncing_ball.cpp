@@ -127,3 +127,118 @@ BOOST_AUTO_TEST_CASE(single_contact_runs_never_load_siconos_or_openblas) {
   BOOST_TEST(!siconos);
   BOOST_TEST(!openblas);
 }
+
+// ---- The ball written with bodies and joints (issue 22): a particle on a `point_on_line` joint
+// to the floor, unilateral with restitution (models/contact/bouncing_ball_bodies.toml). The
+// closed form above holds event for event, and the energy-form ball gives the same events.
+BOOST_AUTO_TEST_CASE(ball_as_a_body_on_a_point_on_line_joint_bounces_as_the_geometric_series) {
+  const double e = 0.5;
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  SwitchingOptions sw;
+  sw.zeno_time = 1e-9;
+  auto mb = contact_model("bouncing_ball_bodies", {{"e_n", e}});
+  const auto b = run(*mb, Eigen::Vector2d(0.3, kH), Eigen::Vector2d(0.2, 0.0), 2.0, o, sw);
+  auto me = contact_model("bouncing_ball", {{"e_n", e}});
+  const auto r = run(*me, Eigen::VectorXd::Constant(1, kH), Eigen::VectorXd::Zero(1), 2.0, o, sw);
+  BOOST_REQUIRE_MESSAGE(b.status == SimulationStatus::success, b.message);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  const double t1 = std::sqrt(2 * kH / kG), v1 = kG * t1;
+  const auto impacts = events_of(b, ContactEventKind::impact);
+  BOOST_REQUIRE(impacts.size() >= 10u);
+  double t_exact = t1, v = v1;
+  for (std::size_t i = 0; i < 10; ++i) {
+    BOOST_TEST(std::abs(impacts[i].t - t_exact) < 1e-10 * t_exact, "impact " << i << " at " << impacts[i].t << " exact " << t_exact);
+    BOOST_TEST(std::abs(impacts[i].vn_after - e * v) < 1e-9 * v1);
+    t_exact += 2 * e * v / kG;
+    v *= e;
+  }
+  const auto& fl = b.contacts.at(0).flights;
+  BOOST_REQUIRE(fl.size() >= 10u);
+  double apex = kH;
+  for (std::size_t i = 1; i < 10; ++i) {
+    apex *= e * e;
+    BOOST_TEST(std::abs(fl[i].max_gap - apex) < 1e-9 * kH, "flight " << i << " apex " << fl[i].max_gap << " exact " << apex);
+  }
+  // Event for event the energy-form ball's; the horizontal motion is untouched (no friction).
+  BOOST_REQUIRE_EQUAL(b.events.size(), r.events.size());
+  for (std::size_t i = 0; i < b.events.size(); ++i) {
+    BOOST_TEST(b.events[i].kind == r.events[i].kind);
+    BOOST_TEST(std::abs(b.events[i].t - r.events[i].t) < 1e-12);
+  }
+  BOOST_TEST(std::abs(b.q_end[1] - r.q_end[0]) < 1e-12);
+  BOOST_TEST(std::abs(b.q_end[0] - (0.3 + 0.2 * 2.0)) < 1e-12);
+}
+
+// A spatial ball (Euler parameters) dropped, sliding sideways and spinning, on a plane through a
+// spatial `point_on_plane` joint (unilateral, restitution; frictionless): its centre's height over
+// the plane follows the same series (impacts at the closed-form times, apexes e^(2k) H), the
+// horizontal velocity is untouched by the frictionless impacts.
+BOOST_AUTO_TEST_CASE(spatial_ball_on_a_point_on_plane_joint_bounces_as_the_geometric_series) {
+  const double e = 0.7, r0 = 0.1;
+  const auto d = modelfile::load_model_text(R"([model]
+name = "ball3d"
+[model.parameters]
+m = 2.0
+g = 9.81
+r = 0.1
+e_n = 0.7
+[model.body.ground]
+markers = { floor = [0, 0, "r"] }
+[model.body.ball]
+kind = "spatial"
+mass = "m"
+inertia = ["2/5*m*r^2", "2/5*m*r^2", "2/5*m*r^2"]
+[model.joint.floor]
+type = "point_on_plane"
+marker1 = "floor"
+body2 = "ball"
+unilateral = true
+restitution = "e_n"
+[model.force.gravity]
+type = "gravity"
+g = [0, 0, "-g"]
+)", "ball3d.toml");
+  const auto& names = d->coordinates();
+  Eigen::VectorXd q0 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(names.size())), qd0 = q0;
+  auto at = [&](const std::string& n) {
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == n) return static_cast<Eigen::Index>(i);
+    BOOST_FAIL("no coordinate " + n);
+    return Eigen::Index(0);
+  };
+  q0[at("ball_z")] = r0 + kH;
+  q0[at("ball_e0")] = 1.0;
+  qd0[at("ball_x")] = 0.4;
+  qd0[at("ball_e3")] = 1.5;  // spinning about z at 3 rad/s (e_dot = omega / 2 at e = (1, 0, 0, 0))
+  auto m = d->instantiate({}, q0, 0.0);
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  SwitchingOptions sw;
+  sw.zeno_time = 1e-9;
+  const auto b = run(*m, q0, qd0, 3.0, o, sw);
+  BOOST_REQUIRE_MESSAGE(b.status == SimulationStatus::success, b.message);
+  const double t1 = std::sqrt(2 * kH / kG), v1 = kG * t1;
+  const auto impacts = events_of(b, ContactEventKind::impact);
+  BOOST_REQUIRE(impacts.size() >= 8u);
+  double t_exact = t1, v = v1;
+  for (std::size_t i = 0; i < 8; ++i) {
+    BOOST_TEST(std::abs(impacts[i].t - t_exact) < 1e-9 * t_exact, "impact " << i << " at " << impacts[i].t << " exact " << t_exact);
+    BOOST_TEST(std::abs(impacts[i].vn_after - e * v) < 1e-8 * v1);
+    BOOST_TEST(std::abs(impacts[i].normal - 2.0 * (1 + e) * v) < 1e-8 * v1);  // impulse m (1 + e) v
+    t_exact += 2 * e * v / kG;
+    v *= e;
+  }
+  const auto& fl = b.contacts.at(0).flights;
+  BOOST_REQUIRE(fl.size() >= 8u);
+  double apex = kH;
+  for (std::size_t i = 1; i < 8; ++i) {
+    apex *= e * e;
+    BOOST_TEST(std::abs(fl[i].max_gap - apex) < 1e-8 * kH, "flight " << i << " apex " << fl[i].max_gap << " exact " << apex);
+  }
+  BOOST_TEST(std::abs(b.qd_end[at("ball_x")] - 0.4) < 1e-10);
+  BOOST_TEST(std::abs(b.q_end[at("ball_x")] - 1.2) < 1e-9);
+  // It rests on the plane after the accumulation time t1 (1 + e) / (1 - e), still spinning.
+  BOOST_TEST(std::abs(b.q_end[at("ball_z")] - r0) < 1e-12);
+  BOOST_TEST(!events_of(b, ContactEventKind::accumulation).empty());
+}

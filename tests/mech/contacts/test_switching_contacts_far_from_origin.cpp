@@ -227,3 +227,51 @@ BOOST_AUTO_TEST_CASE(rocking_block_far_along_the_floor_rocks_as_at_the_origin) {
       BOOST_TEST(rs[i].contacts[c].run.penetration_max < 1e-11);
   }
 }
+
+// ---- Contacts on body joints far from the origin (issue 22): the floor of
+// models/contact/bouncing_ball_bodies.toml and the slope of disk_incline_bodies.toml moved to
+// (1000 m, 1000 m). The ball's gap is ball_y - Y0 with both near 1000, so it is known to
+// 1000 eps only, and the bounds are those of the lifted floor above (same tau_res): it rests
+// within tau_res / (1 - e) of the closed-form accumulation time, on the floor (to the gap's
+// rounding), and with a zeno_time above tau_res exactly as at the origin. The disk spun
+// backwards sticks at the closed-form instant, as at the origin.
+BOOST_AUTO_TEST_CASE(body_joint_contacts_1000_m_from_the_origin_switch_as_at_the_origin) {
+  constexpr double kEps = 2.220446049250313e-16;
+  const double zeno = 1e-9;
+  Rest ref_coarse;
+  for (double X : {0.0, 1e3}) {
+    BOOST_TEST_CONTEXT("floor at (" << X << ", " << X << ")") {
+      auto mb = switching_test::contact_model("bouncing_ball_bodies", {{"e_n", kE}, {"X0", X}, {"Y0", X}});
+      const Eigen::Vector2d q0(X + 0.5, X + 1.0);
+      const Rest r = rest_of(*mb, q0, zeno);
+      const Rest c = rest_of(*mb, q0, 1e-3);
+      BOOST_REQUIRE_MESSAGE(r.r.status == SimulationStatus::success, r.r.message);
+      BOOST_REQUIRE_MESSAGE(c.r.status == SimulationStatus::success, c.r.message);
+      BOOST_REQUIRE(std::isfinite(r.t));
+      const double tau = std::max(zeno, 2.0 * std::sqrt(2.0 * 16.0 * 100.0 * kEps * X / kG));
+      BOOST_TEST(r.t <= exact_rest(kG) + 1e-12);
+      BOOST_TEST(r.t >= exact_rest(kG) - 1.2 * tau / (1 - kE), "rest at " << r.t << ", bound " << tau / (1 - kE));
+      BOOST_TEST(std::abs(r.r.q_end[1] - X) <= 1e-12 + 2 * 100 * kEps * X);  // on the floor
+      BOOST_TEST(r.r.contacts.at(0).run.penetration_max <= 1e-12 + 2 * 100 * kEps * X);
+      BOOST_TEST(std::abs(r.r.q_end[0] - q0[0]) < 1e-12 * (1 + X));     // no friction: x untouched
+      if (X == 0.0) ref_coarse = c;
+      else BOOST_TEST(std::abs(c.t - ref_coarse.t) < 1e-9 * (1 + X));
+    }
+  }
+  // The disk on the slope through (X0, Y0), spun backwards: stick at
+  // t* = r |w0| / (g sin(alpha) + mu g cos(alpha) (1 + m r^2 / J)).
+  const double alpha = 0.5, r = 0.2, mu = 0.2, w0 = -10.0, ts = r * -w0 / (kG * std::sin(alpha) + mu * kG * std::cos(alpha) * 3.0);
+  for (double X : {0.0, 1e3}) {
+    BOOST_TEST_CONTEXT("slope through (" << X << ", " << X << ")") {
+      const Eigen::Vector3d q0(X + r * std::sin(alpha), X + r * std::cos(alpha), 0.0);
+      auto m = switching_test::contact_model("disk_incline_bodies", {{"alpha", alpha}, {"X0", X}, {"Y0", X}}, q0);
+      SimulationOptions o;
+      o.rtol = o.atol = 1e-10;
+      const auto d = run(*m, q0, Eigen::Vector3d(0.0, 0.0, w0), 0.4, o);
+      BOOST_REQUIRE_MESSAGE(d.status == SimulationStatus::success, d.message);
+      BOOST_REQUIRE_EQUAL(d.events.size(), 1u);
+      BOOST_TEST(d.events[0].kind == ContactEventKind::stick);
+      BOOST_TEST(std::abs(d.events[0].t - ts) < 1e-9, "stick at " << d.events[0].t << ", exact " << ts);
+    }
+  }
+}

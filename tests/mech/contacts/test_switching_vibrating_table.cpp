@@ -81,3 +81,37 @@ BOOST_AUTO_TEST_CASE(below_the_threshold_the_ball_rides_the_table) {
   for (std::size_t i = 0; i < tr.t.size(); ++i)
     BOOST_TEST(std::abs(tr.R[i][0] - 0.1 * (kG - A * kW * kW * std::sin(kW * tr.t[i]))) < 1e-8);
 }
+
+// ---- Lift-off of a body from a driven body (issue 22): the table is a body moved by a prismatic
+// tree joint with a prescribed motion, the ball a particle on a unilateral `point_on_line` joint
+// to it (models/contact/table_ball_bodies.toml). The ball leaves the table where the push
+// m (g - A omega^2 sin(omega t)) reaches 0 (closed form), and lands when and as fast as the
+// energy-form ball (table_ball.toml) does.
+BOOST_AUTO_TEST_CASE(ball_on_a_driven_body_lifts_off_at_the_closed_form_instant_as_the_energy_form) {
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-11;
+  SwitchingOptions sw;
+  sw.flight_hmax = 2 * M_PI / kW / 16;
+  const double T = 0.06;
+  const std::map<std::string, double> p{{"A", kA}, {"omega", kW}};
+  auto mb = contact_model("table_ball_bodies", p);
+  const auto b = run(*mb, Eigen::Vector2d::Zero(), Eigen::Vector2d(0.0, kA * kW), T, o, sw);
+  auto me = contact_model("table_ball", p);
+  const auto e = run(*me, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, kA * kW), T, o, sw);
+  BOOST_REQUIRE_MESSAGE(b.status == SimulationStatus::success, b.message);
+  BOOST_REQUIRE_MESSAGE(e.status == SimulationStatus::success, e.message);
+  const double ts = std::asin(kG / (kA * kW * kW)) / kW;
+  const auto lifts = events_of(b, ContactEventKind::lift_off);
+  BOOST_REQUIRE(!lifts.empty());
+  BOOST_TEST(std::abs(lifts[0].t - ts) < 1e-10, "lift-off at " << lifts[0].t << ", exact " << ts);
+  BOOST_TEST(std::abs(lifts[0].normal) < 1e-8);
+  BOOST_REQUIRE(!b.events.empty());
+  BOOST_REQUIRE_EQUAL(b.events.size(), e.events.size());
+  for (std::size_t i = 0; i < b.events.size(); ++i) {
+    BOOST_TEST(b.events[i].kind == e.events[i].kind);
+    BOOST_TEST(std::abs(b.events[i].t - e.events[i].t) < 1e-10);
+    BOOST_TEST(std::abs(b.events[i].vn_before - e.events[i].vn_before) < 1e-9);
+  }
+  BOOST_TEST(!events_of(b, ContactEventKind::impact).empty());
+  BOOST_TEST(std::abs(b.q_end[1] - e.q_end[0]) < 1e-10);
+}

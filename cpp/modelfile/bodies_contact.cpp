@@ -1,0 +1,85 @@
+// The contact attributes of issue 12 on the rows of the joints that can lift off or slip
+// (bodies.hpp, docs/bodies.md "Contact"): `unilateral` and `restitution` go on the joint's gap
+// row (a distance, so its multiplier is the normal force in N), `mu_static` and `mu_kinetic` on
+// its sliding row (the contact point's sliding velocity in m/s, so its multiplier is the friction
+// force in N). They become the [[model.constraint]] attributes of docs/model-files.md
+// ("Contact") on the generated rows, and `pcsim expand` prints them there.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/format.hpp"
+#include "modelfile/bodies.hpp"
+
+namespace pcsim::modelfile::bodies {
+
+const std::vector<std::string>& contact_keys() {
+  static const std::vector<std::string> k{"unilateral", "restitution", "mu_static", "mu_kinetic"};
+  return k;
+}
+
+bool has_contact_keys(const Joint& j) {
+  if (!j.table) return false;
+  for (const auto& k : contact_keys())
+    if (j.table->get(k)) return true;
+  return false;
+}
+
+void refuse_contact_keys(Expander& x, const Joint& j, const std::string& why) {
+  if (!j.table) return;
+  for (const auto& k : contact_keys())
+    if (j.table->get(k)) x.fail(j.key + "." + k, why);
+}
+
+namespace {
+// "got TEXT = VALUE" (the value only when the text is not that number already).
+std::string got(const Expr& e, double v) {
+  const std::string n = format_number(v);
+  return "got " + e + (e == n ? "" : " = " + n);
+}
+}  // namespace
+
+void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
+                        const std::string& no_friction) {
+  const toml::table& t = *j.table;
+  auto value = [&](const Expr& e, const std::string& k) {
+    return default_parameter_value(x, e, j.key + "." + k);
+  };
+  if (auto u = t.get("unilateral")) normal.unilateral = x.boolean(*u, j.key + ".unilateral");
+  const Expr e = x.optional(t, j.key, "restitution");
+  if (!e.empty()) {
+    if (!normal.unilateral)
+      x.fail(j.key + ".restitution",
+             "restitution only with unilateral = true (Newton's coefficient of a contact that can open)");
+    const double v = value(e, "restitution");
+    if (!std::isnan(v) && !(v >= 0.0 && v <= 1.0))
+      x.fail(j.key + ".restitution",
+             "Newton's restitution coefficient in [0, 1], " + got(e, v));
+    normal.restitution = e;
+  }
+  const Expr ms = x.optional(t, j.key, "mu_static");
+  const Expr mk = x.optional(t, j.key, "mu_kinetic");
+  if (ms.empty() && !mk.empty())
+    x.fail(j.key + ".mu_kinetic",
+           "mu_kinetic only with mu_static (Coulomb's static coefficient; mu_kinetic defaults to it)");
+  if (ms.empty()) return;
+  if (!friction) x.fail(j.key + ".mu_static", no_friction);
+  if (!normal.unilateral)
+    x.fail(j.key + ".mu_static",
+           "friction (mu_static) only with unilateral = true (Coulomb's law bounds the friction "
+           "force by the normal force of a contact that can open)");
+  const double s = value(ms, "mu_static");
+  if (!std::isnan(s) && !(s >= 0.0 && std::isfinite(s)))
+    x.fail(j.key + ".mu_static", "a static friction coefficient >= 0, " + got(ms, s));
+  if (!mk.empty()) {
+    const double k = value(mk, "mu_kinetic");
+    if (!std::isnan(k) && !std::isnan(s) && !(k >= 0.0 && k <= s))
+      x.fail(j.key + ".mu_kinetic", "a kinetic friction coefficient in [0, mu_static = " +
+                                        format_number(s) + "], " + got(mk, k));
+  }
+  friction->mu_static = ms;
+  friction->mu_kinetic = mk;
+  friction->friction = normal.name;
+}
+
+}  // namespace pcsim::modelfile::bodies
