@@ -74,7 +74,16 @@ class Run {
         q_(n_),
         qd_(n_),
         a_(n_),
-        Rv_(n_) {}
+        Rv_(n_) {
+    // Large models with sparse structure: M and g as sparse values on the per-step paths.
+    dyn_.sparse_evaluation = sample_dyn_.sparse_evaluation = true;
+    sparse_rows_ = n_ >= Dynamics::kSparseMinN && model.has_sparse_structure();
+    if (sparse_rows_) {
+      for (int i : active_)
+        holonomic_.push_back(model.constraints()[i].kind == ConstraintKind::holonomic ? 1 : 0);
+      phi_.resize(s_);
+    }
+  }
 
   int ny() const { return opt_.form == Form::ode ? 2 * n_ : 4 * n_; }
 
@@ -178,6 +187,16 @@ class Run {
                  double& vel) {
     pos = vel = 0.0;
     if (s_ == 0) return;
+    if (sparse_rows_) {
+      pw_.g0.resize(s_);
+      pw_.gamma.resize(s_);
+      pw_.rows_active.evaluate(model_, active_, t, q, qd, pw_.g0, pw_.gamma);
+      for (int i : active_)
+        if (model_.constraints()[i].kind == ConstraintKind::holonomic)
+          pos = std::max(pos, std::abs(model_.position_residual(i, t, q)));
+      vel = (pw_.rows_active.matrix() * qd + pw_.g0).cwiseAbs().maxCoeff();
+      return;
+    }
     pw_.g.resize(s_, n_);
     pw_.g0.resize(s_);
     pw_.gamma.resize(s_);
@@ -203,6 +222,15 @@ class Run {
   bool consistent_enough(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (legacy_) return false;  // the pre-issue-14 path projects after every step
     // Row by row, each to its own scale (row_within_projection_tol, shared with switching).
+    if (sparse_rows_) {
+      pw_.g0.resize(s_);
+      pw_.gamma.resize(s_);
+      pw_.rows_active.evaluate(model_, active_, t, q, qd, pw_.g0, pw_.gamma);
+      for (int k = 0; k < s_; ++k)
+        phi_[k] = holonomic_[static_cast<std::size_t>(k)] ? model_.position_residual(active_[k], t, q) : 0.0;
+      return rows_within_projection_tol(pw_.rows_active.matrix(), pw_.g0, holonomic_, phi_, t, q,
+                                        qd, opt_.projection_tol);
+    }
     pw_.g.resize(s_, n_);
     pw_.g0.resize(s_);
     pw_.gamma.resize(s_);
@@ -454,6 +482,9 @@ class Run {
   bool legacy_;
   Eigen::VectorXd q_, qd_, a_, Rv_, dense_;
   ProjectionWork pw_;
+  bool sparse_rows_ = false;       // the rows as sparse values (large models with the structure)
+  std::vector<char> holonomic_;    // per active row (sparse_rows_ only)
+  Eigen::VectorXd phi_;
   const StepInfo* step_ = nullptr;
   double current_t_ = 0.0;
   Eigen::VectorXd current_q_, current_qd_;
