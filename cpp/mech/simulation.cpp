@@ -271,6 +271,16 @@ class Run {
   }
   void start_rank(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (s_ == 0) return;
+    // Large sparse models: full rank where the sparse structured solve takes every row (its
+    // pivots: no row within about 1e-2 rad of the span of the others, so σ_min of the
+    // row-scaled g is far above kRankReport σ_max); the dense SVD (O(s² n): minutes at
+    // n = 3000) only where it hands over.
+    if (sparse_rows_ && sample_dyn_.evaluate(set_, t, q, qd) == ModelIssue::none &&
+        sample_dyn_.solve(ReactionMethod::compatibility_structured) == ModelIssue::none &&
+        sample_dyn_.used_sparse && !sample_dyn_.rank_revealing) {
+      r0_ = s_;
+      return;
+    }
     Eigen::VectorXd sv;
     r0_ = 0;
     rank_ratio(t, q, qd, &sv);
@@ -335,7 +345,12 @@ class Run {
     // took the rank-revealing path or came within kWatch (sin² of a row's angle to the others'
     // span, about 0.22 rad) of a singular position, and the step after it (a minimum at the
     // boundary between them is located in the later one).
-    const bool near = step_pivot_ < kWatch || method_ != ReactionMethod::compatibility_structured;
+    // Large sparse models watch from a pivot ratio of kWatchSparse: a regular pendulum chain
+    // has pivots below kWatch in the sparse factor's order, and each watched step costs dense
+    // SVDs of g (O(s² n)), minutes at n = 3000. A row within 0.03 rad of the others' span is
+    // still watched, and the solve hands over (rank-revealing: watched) at 0.01 rad.
+    const bool near = step_pivot_ < (sparse_rows_ ? kWatchSparse : kWatch) ||
+                      method_ != ReactionMethod::compatibility_structured;
     step_pivot_ = 1.0;
     if (s_ == 0 || r0_ == 0 || !(step.t > step.t_prev)) return;
     if (!(watching_ || near || watch_next_)) {
@@ -503,6 +518,7 @@ class Run {
   double step_pivot_ = 1.0;  // the smallest min_pivot_ratio() of the step's evaluations
   bool watch_next_ = false;
   static constexpr double kWatch = 0.05;
+  static constexpr double kWatchSparse = 1e-3;
   int r0_ = 0;
   std::vector<int> dependent_start_;
   RankChange open_;
