@@ -781,11 +781,12 @@ void Dynamics::dae_residuals(const Eigen::VectorXd& a, const Eigen::VectorXd& Rv
 double Dynamics::position_residual(double t, const Eigen::VectorXd& q) const {
   double r = 0.0;
   if (!active_) return r;
-  for (int i : active_->rows()) {
-    if (model_->constraints()[i].kind == ConstraintKind::holonomic) {
-      r = std::max(r, std::abs(model_->position_residual(i, t, q)));
-    }
-  }
+  hol_.clear();
+  for (int i : active_->rows())
+    if (model_->constraints()[i].kind == ConstraintKind::holonomic) hol_.push_back(i);
+  phi_.resize(hol_.size());
+  model_->position_residuals(hol_, t, q, phi_.data());  // one call: the state set up once
+  for (double p : phi_) r = std::max(r, std::abs(p));
   return r;
 }
 

@@ -241,6 +241,8 @@ class Dynamics {
   SparseRows rows_sp_;
   bool sparse_eval_ = false;
   bool dense_stale_ = false;  // M and g not yet filled from the sparse values
+  mutable std::vector<int> hol_;     // position_residual's scratch
+  mutable std::vector<double> phi_;
 };
 
 /// "coordinate 'x'" style names for messages.

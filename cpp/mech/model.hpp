@@ -117,6 +117,13 @@ class Model {
 
   /// Φ_i(q, t) of constraint i (holonomic only; NaN for a velocity-form constraint).
   virtual double position_residual(int i, double t, const Eigen::VectorXd& q) const = 0;
+  /// out[k] = position_residual(rows[k], t, q) for every k, the same numbers in one call (a
+  /// model may share the work of setting up the state: ExpressionModel copies q once, not once
+  /// per row, which made residual sweeps O(s n)).
+  virtual void position_residuals(const std::vector<int>& rows, double t, const Eigen::VectorXd& q,
+                                  double* out) const {
+    for (std::size_t k = 0; k < rows.size(); ++k) out[k] = position_residual(rows[k], t, q);
+  }
 
   /// The model's derived quantities (size derived_names().size()) at a state with
   /// accelerations qdd and reactions R.

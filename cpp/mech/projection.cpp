@@ -277,7 +277,7 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
     Eigen::VectorXd phi(sh);
     bool converged = false;
     for (int it = 0; it < 30 && !converged; ++it) {
-      for (int r = 0; r < sh; ++r) phi[r] = model.position_residual(hol[r], t, q);
+      model.position_residuals(hol, t, q, phi.data());
       if (!phi.allFinite()) break;  // diverged: the rank-revealing path decides
       if (sparse_rows) {
         w.rows_holonomic.evaluate(model, hol, t, q, qd, w.g0, w.gamma);

@@ -191,9 +191,9 @@ class Run {
       pw_.g0.resize(s_);
       pw_.gamma.resize(s_);
       pw_.rows_active.evaluate(model_, active_, t, q, qd, pw_.g0, pw_.gamma);
-      for (int i : active_)
-        if (model_.constraints()[i].kind == ConstraintKind::holonomic)
-          pos = std::max(pos, std::abs(model_.position_residual(i, t, q)));
+      model_.position_residuals(active_, t, q, phi_.data());
+      for (int k = 0; k < s_; ++k)
+        if (holonomic_[static_cast<std::size_t>(k)]) pos = std::max(pos, std::abs(phi_[k]));
       vel = (pw_.rows_active.matrix() * qd + pw_.g0).cwiseAbs().maxCoeff();
       return;
     }
@@ -226,8 +226,7 @@ class Run {
       pw_.g0.resize(s_);
       pw_.gamma.resize(s_);
       pw_.rows_active.evaluate(model_, active_, t, q, qd, pw_.g0, pw_.gamma);
-      for (int k = 0; k < s_; ++k)
-        phi_[k] = holonomic_[static_cast<std::size_t>(k)] ? model_.position_residual(active_[k], t, q) : 0.0;
+      model_.position_residuals(active_, t, q, phi_.data());  // NaN for velocity rows: unread
       return rows_within_projection_tol(pw_.rows_active.matrix(), pw_.g0, holonomic_, phi_, t, q,
                                         qd, opt_.projection_tol);
     }

@@ -204,6 +204,23 @@ double ExpressionModel::position_residual(int i, double t, const Eigen::VectorXd
   return v[b.results[0]];
 }
 
+void ExpressionModel::position_residuals(const std::vector<int>& rows, double t,
+                                         const Eigen::VectorXd& q, double* out) const {
+  const CompiledModel& c = *compiled_;
+  if (rows.empty()) return;
+  double* v = values(t, q, nullptr);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const int i = rows[k];
+    if (i < 0 || i >= static_cast<int>(c.constraint_blocks.size()) ||
+        c.constraint_blocks[i].position < 0) {
+      out[k] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    c.run_block(c.constraint_blocks[i].position, v);
+    out[k] = v[c.tape.blocks[c.constraint_blocks[i].position].results[0]];
+  }
+}
+
 void ExpressionModel::derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                               const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                               Eigen::VectorXd& out) const {

@@ -72,6 +72,8 @@ class ExpressionModel final : public mech::Model {
                        const Eigen::VectorXd& qd, Eigen::MatrixXd& g, Eigen::VectorXd& g0,
                        Eigen::VectorXd& gamma) const override;
   double position_residual(int i, double t, const Eigen::VectorXd& q) const override;
+  void position_residuals(const std::vector<int>& rows, double t, const Eigen::VectorXd& q,
+                          double* out) const override;
   void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                Eigen::VectorXd& out) const override;
