@@ -1,7 +1,7 @@
 # Helpers shared by the folders' CMakeLists.txt.
 
 # pcsim_component(NAME name FORTRAN globs... BRIDGE globs... CXX globs... LINKS targets...)
-# Builds the static library pcsim_<name> from the files matching the globs (relative to the
+# Builds the static library (shared with PCSIM_SHARED_LIBS, except the installed kernels) pcsim_<name> from the files matching the globs (relative to the
 # source tree's root; CONFIGURE_DEPENDS, so a new file is picked up by the next build). Fortran
 # modules go to a per-target directory.
 function(pcsim_component)
@@ -14,7 +14,11 @@ function(pcsim_component)
   # The module directory must exist even for components without Fortran, since it is on the
   # include path (gfortran warns about missing include directories).
   file(MAKE_DIRECTORY "${CMAKE_BINARY_DIR}/mod/${C_NAME}")
-  add_library(pcsim_${C_NAME} STATIC ${srcs})
+  set(type STATIC)
+  if(PCSIM_SHARED_LIBS AND NOT C_NAME MATCHES "^(common|huang|radau)$")
+    set(type SHARED)
+  endif()
+  add_library(pcsim_${C_NAME} ${type} ${srcs})
   set_target_properties(pcsim_${C_NAME} PROPERTIES
     Fortran_MODULE_DIRECTORY "${CMAKE_BINARY_DIR}/mod/${C_NAME}"
     LINKER_LANGUAGE CXX)
