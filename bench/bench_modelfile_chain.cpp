@@ -111,7 +111,17 @@ int main(int argc, char** argv) {
       model->forces(0.0, q, qd, Q);
       model->constraint_rows(active, 0.0, q, qd, g, g0, gamma);
     }, 0.2);
+    // The model's sparse values (what a run's evaluations take from n = kSparseMinN up).
+    mech::SparseMass sm;
+    mech::SparseRows sr;
+    const double tms = seconds_per_call([&] {
+      sm.evaluate(*model, 0.0, q, qd, h);
+      model->forces(0.0, q, qd, Q);
+      sr.evaluate(*model, active, 0.0, q, qd, g0, gamma);
+    }, 0.2);
+    std::printf("     (N = %d: the model's evaluation as sparse values: %.1f us)\n", N, tms * 1e6);
     mech::Dynamics dyn(*model, Kernel::cpp);
+    dyn.sparse_evaluation = true;  // as mech::simulate's workspaces
     const mech::ActiveSet as = mech::ActiveSet::of(*model, active);
     const double tr = seconds_per_call([&] {
       dyn.evaluate(as, 0.0, q, qd);

@@ -99,11 +99,25 @@ ModelIssue Dynamics::evaluate(const ActiveSet& active, double t, const Eigen::Ve
   active_ = &active;
   resize_for(active.size());
   t_ = t;
-  model_->kinetic_terms(t, q, qd, M, h);
-  model_->forces(t, q, qd, Q);
-  if (s_ > 0) model_->constraint_rows(active.rows(), t, q, qd, g, g0, gamma);
+  // Large models with sparse structure: M and g as sparse values only (no n x n work); the
+  // dense M and g are filled from them only where a dense path needs them (densify()).
+  sparse_eval_ = sparse_evaluation && n_ >= sparse_min_n && model_->has_sparse_structure();
+  if (sparse_eval_) {
+    mass_sp_.evaluate(*model_, t, q, qd, h);
+    model_->forces(t, q, qd, Q);
+    rows_sp_.evaluate(*model_, active.rows(), t, q, qd, g0, gamma);
+    dense_stale_ = true;
+    // Non-finite values: the dense checks below name the culprits (a rare path).
+    if (!mass_sp_.all_finite() || (s_ > 0 && !rows_sp_.all_finite())) densify();
+  } else {
+    dense_stale_ = false;
+    model_->kinetic_terms(t, q, qd, M, h);
+    model_->forces(t, q, qd, Q);
+    if (s_ > 0) model_->constraint_rows(active.rows(), t, q, qd, g, g0, gamma);
+  }
   // Messages are built only on failure: this runs once per right-hand side evaluation.
   const auto at = [t] { return " at t = " + fmt(t); };
+  if (dense_stale_) return evaluate_sparse_checks(active, t, q, qd);
   if (!M.allFinite()) {
     Eigen::VectorXd bad = M.rowwise().sum();
     return fail(ModelIssue::non_finite, "the mass matrix M = d2T/dqd2 is not finite" + at() +
@@ -142,7 +156,48 @@ ModelIssue Dynamics::evaluate(const ActiveSet& active, double t, const Eigen::Ve
   return ModelIssue::none;
 }
 
+// The rest of evaluate() on the sparse values (M and g finite already).
+ModelIssue Dynamics::evaluate_sparse_checks(const ActiveSet& active, double t,
+                                            const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  const auto at = [t] { return " at t = " + fmt(t); };
+  if (!h.allFinite()) {
+    return fail(ModelIssue::non_finite, "the velocity terms h of the kinetic energy are not finite" +
+                                            at() + " (coordinate " +
+                                            coordinate_list(*model_, h, INFINITY) + ")");
+  }
+  if (!Q.allFinite()) {
+    return fail(ModelIssue::non_finite,
+                "the generalized forces Q (-dV/dq - dF/dqd + applied) are not finite" + at() +
+                    " (coordinate " + coordinate_list(*model_, Q, INFINITY) + ")");
+  }
+  for (int r = 0; r < s_; ++r) {
+    if (!std::isfinite(g0[r]) || !std::isfinite(gamma[r])) {
+      return fail(ModelIssue::non_finite, "constraint '" + model_->constraints()[active.rows()[r]].name +
+                                              "' gives a non-finite row g, g0 or gamma" + at());
+    }
+  }
+  if (stabilization_ == Stabilization::baumgarte && s_ > 0) {
+    gamma.noalias() += 2.0 * alpha_ * (rows_sp_.matrix() * qd);
+    gamma += 2.0 * alpha_ * g0;
+    for (int r = 0; r < s_; ++r) {
+      if (model_->constraints()[active.rows()[r]].kind == ConstraintKind::holonomic) {
+        gamma[r] += beta_ * beta_ * model_->position_residual(active.rows()[r], t, q);
+      }
+    }
+  }
+  f = Q - h;
+  return ModelIssue::none;
+}
+
+void Dynamics::densify() {
+  if (!dense_stale_) return;
+  mass_sp_.to_dense(M);
+  if (s_ > 0) rows_sp_.to_dense(g);
+  dense_stale_ = false;
+}
+
 ModelIssue Dynamics::factorize_mass() {
+  densify();
   llt_.compute(M);
   bool ok = llt_.info() == Eigen::Success;
   if (ok) {
@@ -165,6 +220,7 @@ ModelIssue Dynamics::factorize_mass() {
 }
 
 std::string Dynamics::dependent_rows() const {
+  const_cast<Dynamics*>(this)->densify();  // M, g: a cache of the sparse values
   // The rows of g (each scaled to unit length, so a constraint's units do not matter) that take
   // part in a linear dependency: the left singular vectors of the (near-)zero singular values
   // have their large components on exactly those rows. A row that vanishes is named alone.
@@ -246,6 +302,7 @@ ModelIssue Dynamics::null_basis() {
 }
 
 ModelIssue Dynamics::prepare_compatibility() {
+  densify();
   if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
   a0_ = llt_.solve(f);
   if (s_ == 0) return ModelIssue::none;
@@ -352,7 +409,11 @@ bool Dynamics::structured_kernel() {
 // Out of line: the small models' hot path stays as it was.
 __attribute__((noinline)) bool Dynamics::solve_sparse_structured(ModelIssue& issue) {
   used_sparse = true;
-  switch (sparse_.solve(M, g, f, gamma, kSwitch, G0, lambda, R, qdd)) {
+  const auto outcome = dense_stale_ ? sparse_.solve(mass_sp_.lower(), rows_sp_.matrix(), f, gamma,
+                                                    kSwitch, G0, lambda, R, qdd)
+                                    : sparse_.solve(M, g, f, gamma, kSwitch, G0, lambda, R, qdd);
+  if (outcome != SparseCompatibility::Outcome::solved) densify();  // the dense paths decide
+  switch (outcome) {
     case SparseCompatibility::Outcome::solved:
       rank = s_;
       rank_revealing = false;
@@ -388,6 +449,7 @@ ModelIssue Dynamics::solve_compatibility_structured() {
     ModelIssue issue;
     if (solve_sparse_structured(issue)) return issue;
   }
+  densify();
   used_sparse = false;
   // Compile-time sizes for the common small models (the loops unroll), run-time otherwise.
   bool ok;
@@ -473,6 +535,7 @@ ModelIssue Dynamics::solve_udwadia_kalaba() {
 }
 
 ModelIssue Dynamics::solve_rank_revealing() {
+  densify();
   if (ModelIssue e = factorize_mass(); e != ModelIssue::none) return e;
   a0_ = llt_.solve(f);
   rank_revealing = true;
@@ -578,6 +641,7 @@ ModelIssue Dynamics::solve_rank_revealing() {
 }
 
 std::vector<int> Dynamics::dependent_row_indices(int numerical_rank) const {
+  const_cast<Dynamics*>(this)->densify();  // M, g: a cache of the sparse values
   // Which rows to call dependent: column-pivoted QR of the row-scaled gᵀ picks a well-conditioned
   // set of `numerical_rank` rows first; the rows it leaves are the dependent ones (deterministic).
   std::vector<int> out;
@@ -595,6 +659,7 @@ std::vector<int> Dynamics::dependent_row_indices(int numerical_rank) const {
 }
 
 double Dynamics::smallest_singular_value() const {
+  const_cast<Dynamics*>(this)->densify();  // M, g: a cache of the sparse values
   if (s_ == 0) return INFINITY;
   Eigen::MatrixXd gs = g;
   for (int r = 0; r < s_; ++r) {
@@ -618,6 +683,7 @@ ModelIssue Dynamics::solve(ReactionMethod method) {
   rank = s_;
   nullity = 0;
   rank_revealing = false;
+  if (method != ReactionMethod::compatibility_structured) densify();
   switch (method) {
     case ReactionMethod::compatibility_structured:
       return solve_compatibility_structured();  // λ first, then R
@@ -640,6 +706,7 @@ ModelIssue Dynamics::solve(ReactionMethod method) {
 
 ModelIssue Dynamics::solve_sliding(ReactionMethod method, int imposed,
                                    const std::vector<SlidingFriction>& sliding) {
+  densify();
   return method == ReactionMethod::compatibility ? solve_sliding_dense(imposed, sliding)
                                                  : solve_sliding_structured(imposed, sliding);
 }
@@ -714,16 +781,18 @@ void Dynamics::dae_residuals(const Eigen::VectorXd& a, const Eigen::VectorXd& Rv
 double Dynamics::position_residual(double t, const Eigen::VectorXd& q) const {
   double r = 0.0;
   if (!active_) return r;
-  for (int i : active_->rows()) {
-    if (model_->constraints()[i].kind == ConstraintKind::holonomic) {
-      r = std::max(r, std::abs(model_->position_residual(i, t, q)));
-    }
-  }
+  hol_.clear();
+  for (int i : active_->rows())
+    if (model_->constraints()[i].kind == ConstraintKind::holonomic) hol_.push_back(i);
+  phi_.resize(hol_.size());
+  model_->position_residuals(hol_, t, q, phi_.data());  // one call: the state set up once
+  for (double p : phi_) r = std::max(r, std::abs(p));
   return r;
 }
 
 double Dynamics::velocity_residual(const Eigen::VectorXd& qd) const {
   if (s_ == 0) return 0.0;
+  if (dense_stale_) return (rows_sp_.matrix() * qd + g0).cwiseAbs().maxCoeff();
   return (g * qd + g0).cwiseAbs().maxCoeff();
 }
 

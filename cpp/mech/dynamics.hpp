@@ -164,6 +164,7 @@ class Dynamics {
   /// metric (the Cholesky pivots U_jj²/S_jj of g M⁻¹ gᵀ; 1 when s = 0). The run's rank watch
   /// (issue 21) looks closer at a step whose evaluations came near a singular position.
   double min_pivot_ratio() const {
+    if (used_sparse) return sparse_.min_pivot_ratio();
     double m = 1.0;
     for (int i = 0; i < s_; ++i) m = std::min(m, 1.0 / (sdiag_[i] * inv_s_[i] * inv_s_[i]));
     return m;
@@ -174,6 +175,8 @@ class Dynamics {
 
  private:
   ModelIssue fail(ModelIssue issue, std::string message);
+  ModelIssue evaluate_sparse_checks(const ActiveSet& active, double t, const Eigen::VectorXd& q,
+                                    const Eigen::VectorXd& qd);
   ModelIssue factorize_mass();
   ModelIssue null_basis();
   /// The names of the active constraints whose rows of g take part in a linear dependency
@@ -216,6 +219,30 @@ class Dynamics {
   // Last in the class: the members before keep their offsets (the small models' kernels).
   int sparse_min_n = kSparseMinN;  ///< the sparse path from this many coordinates (see above)
   bool used_sparse = false;        ///< true if the last structured solve ran on the sparse path
+  /// Sparse evaluation (issue 23), off by default: when set, evaluate() of a model with sparse
+  /// structure (Model::has_sparse_structure) with n >= sparse_min_n takes M and g as sparse
+  /// values only, and the public dense M and g are NOT filled by it: the structured solve runs
+  /// on the sparse values; every other method, the hand-overs (dependent rows, singular M) and
+  /// the members that read g (dependent_row_indices, smallest_singular_value) fill them first,
+  /// once per evaluation. A caller that reads M or g itself after evaluate() calls densify().
+  /// Runs (mech::simulate) set it for their own workspaces.
+  bool sparse_evaluation = false;
+  /// Fills the dense M and g from the sparse values of the last evaluate() (no-op when they
+  /// are current).
+  void densify();
+  /// True if the last evaluate() took the sparse values (M and g dense only after densify()).
+  bool sparse_evaluated() const { return sparse_eval_; }
+  /// The sparse M (lower triangle) and g of the last sparse evaluate().
+  const SparseMass& sparse_mass() const { return mass_sp_; }
+  const SparseRows& sparse_rows() const { return rows_sp_; }
+
+ private:
+  SparseMass mass_sp_;
+  SparseRows rows_sp_;
+  bool sparse_eval_ = false;
+  bool dense_stale_ = false;  // M and g not yet filled from the sparse values
+  mutable std::vector<int> hol_;     // position_residual's scratch
+  mutable std::vector<double> phi_;
 };
 
 /// "coordinate 'x'" style names for messages.

@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -116,6 +117,13 @@ class Model {
 
   /// Φ_i(q, t) of constraint i (holonomic only; NaN for a velocity-form constraint).
   virtual double position_residual(int i, double t, const Eigen::VectorXd& q) const = 0;
+  /// out[k] = position_residual(rows[k], t, q) for every k, the same numbers in one call (a
+  /// model may share the work of setting up the state: ExpressionModel copies q once, not once
+  /// per row, which made residual sweeps O(s n)).
+  virtual void position_residuals(const std::vector<int>& rows, double t, const Eigen::VectorXd& q,
+                                  double* out) const {
+    for (std::size_t k = 0; k < rows.size(); ++k) out[k] = position_residual(rows[k], t, q);
+  }
 
   /// The model's derived quantities (size derived_names().size()) at a state with
   /// accelerations qdd and reactions R.
@@ -132,6 +140,45 @@ class Model {
     (void)imposed;
     (void)lambda;
     derived(t, q, qd, qdd, R, out);
+  }
+
+  // ---- sparse structure (optional, issue 23) ----------------------------------------------
+  // A large model (absolute coordinates: one small block of M per body, a few coordinates per
+  // constraint row) can deliver M and g as the values of a fixed sparsity pattern instead of
+  // dense n x n and s x n matrices, so that the engine's sparse path (mech/sparse_compat.hpp)
+  // does no work proportional to n² per evaluation. The pattern is structural: it holds every
+  // entry that can be nonzero at any state and parameter set of this instance (an entry of the
+  // pattern may be zero at a state). The dense calls above stay the contract every model keeps;
+  // the sparse calls give the same numbers (the dense M and g are zero outside the pattern).
+  // Models from model files have it (their tape knows the entries); make_model's do not.
+
+  /// The pattern: `mass` lists the entries (i, j), i <= j, of M's upper triangle that may be
+  /// nonzero (each once; M is symmetric); `rows[c]` the columns (ascending) where row g_c of
+  /// constraint c (an index into constraints()) may be nonzero.
+  struct SparsePattern {
+    std::vector<std::pair<int, int>> mass;
+    std::vector<std::vector<int>> rows;
+  };
+  /// True if sparse_pattern() and the two *_sparse calls below are available.
+  virtual bool has_sparse_structure() const { return false; }
+  /// The fixed pattern (the same object for the model's lifetime).
+  virtual const SparsePattern& sparse_pattern() const {
+    throw std::logic_error("model '" + name_ + "' has no sparse structure");
+  }
+  /// M's values in the order of sparse_pattern().mass (mass_values: that many doubles) and h
+  /// (sized n), as kinetic_terms gives them.
+  virtual void kinetic_terms_sparse(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                    double* mass_values, Eigen::VectorXd& h) const {
+    throw std::logic_error("model '" + name_ + "' has no sparse structure");
+  }
+  /// The rows of the active constraints as constraint_rows gives them, g as values: row r's
+  /// entries in the order of sparse_pattern().rows[active[r]], rows one after the other
+  /// (row_values: the sum of those sizes); g0, gamma sized s.
+  virtual void constraint_rows_sparse(const std::vector<int>& active, double t,
+                                      const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                      double* row_values, Eigen::VectorXd& g0,
+                                      Eigen::VectorXd& gamma) const {
+    throw std::logic_error("model '" + name_ + "' has no sparse structure");
   }
 
   // ---- exact tangents (optional) ------------------------------------------------------------

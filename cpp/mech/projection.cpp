@@ -259,6 +259,15 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
     if (n >= w.sparse_min_n && w.sparse.solve(g, b, hr.x)) return hr;
     return huang_solve(g, b, ho);
   };
+  // Models with sparse structure: the rows as sparse values; the dense g only where the sparse
+  // solve declines.
+  const bool sparse_rows = n >= w.sparse_min_n && model.has_sparse_structure();
+  const auto min_norm_sparse = [&](const SparseRows& rows, const Eigen::VectorXd& b) {
+    HuangResult hr;
+    if (w.sparse.solve(rows.matrix(), b, hr.x)) return hr;
+    rows.to_dense(w.g);
+    return huang_solve(w.g, b, ho);
+  };
   const Eigen::VectorXd q_start = q;
   if (!hol.empty()) {
     const int sh = static_cast<int>(hol.size());
@@ -268,15 +277,19 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
     Eigen::VectorXd phi(sh);
     bool converged = false;
     for (int it = 0; it < 30 && !converged; ++it) {
-      for (int r = 0; r < sh; ++r) phi[r] = model.position_residual(hol[r], t, q);
+      model.position_residuals(hol, t, q, phi.data());
       if (!phi.allFinite()) break;  // diverged: the rank-revealing path decides
-      model.constraint_rows(hol, t, q, qd, w.g, w.g0, w.gamma);
-      if (!phi.allFinite() || !w.g.allFinite()) {
+      if (sparse_rows) {
+        w.rows_holonomic.evaluate(model, hol, t, q, qd, w.g0, w.gamma);
+      } else {
+        model.constraint_rows(hol, t, q, qd, w.g, w.g0, w.gamma);
+      }
+      if (!phi.allFinite() || (sparse_rows ? !w.rows_holonomic.all_finite() : !w.g.allFinite())) {
         message = "a holonomic constraint is not finite during the projection at t = " +
                   std::to_string(t);
         return ModelIssue::non_finite;
       }
-      const HuangResult hr = min_norm(w.g, -phi);
+      const HuangResult hr = sparse_rows ? min_norm_sparse(w.rows_holonomic, -phi) : min_norm(w.g, -phi);
       if (hr.info < 0) {
         message = "the Huang kernel rejected argument " + std::to_string(-hr.info);
         return ModelIssue::kernel_failure;
@@ -297,10 +310,20 @@ ModelIssue project_state_huang(const Model& model, const std::vector<int>& activ
     dq = (q - q_start).norm();
   }
   Eigen::VectorXd rv;
-  if (const ModelIssue e = velocity_residual_rows(model, active, t, q, qd, w, rv, message);
-      e != ModelIssue::none)
+  if (sparse_rows) {
+    w.g0.resize(s);
+    w.gamma.resize(s);
+    w.rows_active.evaluate(model, active, t, q, qd, w.g0, w.gamma);
+    if (!w.rows_active.all_finite() || !w.g0.allFinite()) {
+      message = "a constraint row is not finite during the projection at t = " + std::to_string(t);
+      return ModelIssue::non_finite;
+    }
+    rv = -(w.rows_active.matrix() * qd + w.g0);
+  } else if (const ModelIssue e = velocity_residual_rows(model, active, t, q, qd, w, rv, message);
+             e != ModelIssue::none) {
     return e;
-  const HuangResult hr = min_norm(w.g, rv);
+  }
+  const HuangResult hr = sparse_rows ? min_norm_sparse(w.rows_active, rv) : min_norm(w.g, rv);
   if (hr.info < 0) {
     message = "the Huang kernel rejected argument " + std::to_string(-hr.info);
     return ModelIssue::kernel_failure;
@@ -325,6 +348,28 @@ bool row_within_projection_tol(const Eigen::Ref<const Eigen::RowVectorXd>& g, do
   if (!position) return true;
   const double pos_scale = ag.dot(q.cwiseAbs()) + std::abs(g0) * std::abs(t);
   return std::abs(pos_residual) <= tol * (1.0 + pos_scale);
+}
+
+bool rows_within_projection_tol(const SparseMatrixD& g, const Eigen::VectorXd& g0,
+                                const std::vector<char>& position, const Eigen::VectorXd& phi,
+                                double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                double tol) {
+  // The sums of row_within_projection_tol, column by column over the compressed g.
+  const int s = static_cast<int>(g.rows());
+  Eigen::VectorXd vel = g0, vel_scale = g0.cwiseAbs(), pos_scale = std::abs(t) * g0.cwiseAbs();
+  for (int j = 0; j < g.outerSize(); ++j)
+    for (SparseMatrixD::InnerIterator it(g, j); it; ++it) {
+      const int r = static_cast<int>(it.row());
+      vel[r] += it.value() * qd[j];
+      vel_scale[r] += std::abs(it.value()) * std::abs(qd[j]);
+      pos_scale[r] += std::abs(it.value()) * std::abs(q[j]);
+    }
+  for (int r = 0; r < s; ++r) {
+    if (!(std::abs(vel[r]) <= tol * (1.0 + vel_scale[r]))) return false;
+    if (position[static_cast<std::size_t>(r)] && !(std::abs(phi[r]) <= tol * (1.0 + pos_scale[r])))
+      return false;
+  }
+  return true;
 }
 
 }  // namespace pcsim::mech

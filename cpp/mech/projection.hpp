@@ -23,6 +23,9 @@ struct ProjectionWork {
   /// Huang's dense kernel (same solution up to rounding); Huang decides where it declines.
   SparseMinNorm sparse;
   int sparse_min_n = Dynamics::kSparseMinN;
+  /// The rows as sparse values (models with sparse structure, n >= sparse_min_n): the Huang
+  /// path's Newton and velocity stages then do no s x n work unless the sparse solve declines.
+  SparseRows rows_holonomic, rows_active;
 };
 
 /// Projects (q, qd) in place. tol: relative Newton tolerance for the position part. On return
@@ -79,6 +82,13 @@ ModelIssue project_state_rank_revealing(const Model& model, const std::vector<in
 bool row_within_projection_tol(const Eigen::Ref<const Eigen::RowVectorXd>& g, double g0,
                                bool position, double pos_residual, double t,
                                const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double tol);
+
+/// row_within_projection_tol for every row of a sparse g (s x n) at once: true if all hold.
+/// position[r]: row r is holonomic with residual phi[r].
+bool rows_within_projection_tol(const SparseMatrixD& g, const Eigen::VectorXd& g0,
+                                const std::vector<char>& position, const Eigen::VectorXd& phi,
+                                double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                double tol);
 
 /// Resolves constraint names to indices into model.constraints(); returns the issue.
 ModelIssue resolve_constraints(const Model& model, const std::vector<std::string>& names,

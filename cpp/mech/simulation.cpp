@@ -74,7 +74,16 @@ class Run {
         q_(n_),
         qd_(n_),
         a_(n_),
-        Rv_(n_) {}
+        Rv_(n_) {
+    // Large models with sparse structure: M and g as sparse values on the per-step paths.
+    dyn_.sparse_evaluation = sample_dyn_.sparse_evaluation = true;
+    sparse_rows_ = n_ >= Dynamics::kSparseMinN && model.has_sparse_structure();
+    if (sparse_rows_) {
+      for (int i : active_)
+        holonomic_.push_back(model.constraints()[i].kind == ConstraintKind::holonomic ? 1 : 0);
+      phi_.resize(s_);
+    }
+  }
 
   int ny() const { return opt_.form == Form::ode ? 2 * n_ : 4 * n_; }
 
@@ -178,6 +187,16 @@ class Run {
                  double& vel) {
     pos = vel = 0.0;
     if (s_ == 0) return;
+    if (sparse_rows_) {
+      pw_.g0.resize(s_);
+      pw_.gamma.resize(s_);
+      pw_.rows_active.evaluate(model_, active_, t, q, qd, pw_.g0, pw_.gamma);
+      model_.position_residuals(active_, t, q, phi_.data());
+      for (int k = 0; k < s_; ++k)
+        if (holonomic_[static_cast<std::size_t>(k)]) pos = std::max(pos, std::abs(phi_[k]));
+      vel = (pw_.rows_active.matrix() * qd + pw_.g0).cwiseAbs().maxCoeff();
+      return;
+    }
     pw_.g.resize(s_, n_);
     pw_.g0.resize(s_);
     pw_.gamma.resize(s_);
@@ -203,6 +222,14 @@ class Run {
   bool consistent_enough(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (legacy_) return false;  // the pre-issue-14 path projects after every step
     // Row by row, each to its own scale (row_within_projection_tol, shared with switching).
+    if (sparse_rows_) {
+      pw_.g0.resize(s_);
+      pw_.gamma.resize(s_);
+      pw_.rows_active.evaluate(model_, active_, t, q, qd, pw_.g0, pw_.gamma);
+      model_.position_residuals(active_, t, q, phi_.data());  // NaN for velocity rows: unread
+      return rows_within_projection_tol(pw_.rows_active.matrix(), pw_.g0, holonomic_, phi_, t, q,
+                                        qd, opt_.projection_tol);
+    }
     pw_.g.resize(s_, n_);
     pw_.g0.resize(s_);
     pw_.gamma.resize(s_);
@@ -243,6 +270,16 @@ class Run {
   }
   void start_rank(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (s_ == 0) return;
+    // Large sparse models: full rank where the sparse structured solve takes every row (its
+    // pivots: no row within about 1e-2 rad of the span of the others, so σ_min of the
+    // row-scaled g is far above kRankReport σ_max); the dense SVD (O(s² n): minutes at
+    // n = 3000) only where it hands over.
+    if (sparse_rows_ && sample_dyn_.evaluate(set_, t, q, qd) == ModelIssue::none &&
+        sample_dyn_.solve(ReactionMethod::compatibility_structured) == ModelIssue::none &&
+        sample_dyn_.used_sparse && !sample_dyn_.rank_revealing) {
+      r0_ = s_;
+      return;
+    }
     Eigen::VectorXd sv;
     r0_ = 0;
     rank_ratio(t, q, qd, &sv);
@@ -307,7 +344,12 @@ class Run {
     // took the rank-revealing path or came within kWatch (sin² of a row's angle to the others'
     // span, about 0.22 rad) of a singular position, and the step after it (a minimum at the
     // boundary between them is located in the later one).
-    const bool near = step_pivot_ < kWatch || method_ != ReactionMethod::compatibility_structured;
+    // Large sparse models watch from a pivot ratio of kWatchSparse: a regular pendulum chain
+    // has pivots below kWatch in the sparse factor's order, and each watched step costs dense
+    // SVDs of g (O(s² n)), minutes at n = 3000. A row within 0.03 rad of the others' span is
+    // still watched, and the solve hands over (rank-revealing: watched) at 0.01 rad.
+    const bool near = step_pivot_ < (sparse_rows_ ? kWatchSparse : kWatch) ||
+                      method_ != ReactionMethod::compatibility_structured;
     step_pivot_ = 1.0;
     if (s_ == 0 || r0_ == 0 || !(step.t > step.t_prev)) return;
     if (!(watching_ || near || watch_next_)) {
@@ -454,6 +496,9 @@ class Run {
   bool legacy_;
   Eigen::VectorXd q_, qd_, a_, Rv_, dense_;
   ProjectionWork pw_;
+  bool sparse_rows_ = false;       // the rows as sparse values (large models with the structure)
+  std::vector<char> holonomic_;    // per active row (sparse_rows_ only)
+  Eigen::VectorXd phi_;
   const StepInfo* step_ = nullptr;
   double current_t_ = 0.0;
   Eigen::VectorXd current_q_, current_qd_;
@@ -472,6 +517,7 @@ class Run {
   double step_pivot_ = 1.0;  // the smallest min_pivot_ratio() of the step's evaluations
   bool watch_next_ = false;
   static constexpr double kWatch = 0.05;
+  static constexpr double kWatchSparse = 1e-3;
   int r0_ = 0;
   std::vector<int> dependent_start_;
   RankChange open_;

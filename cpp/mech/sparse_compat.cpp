@@ -45,7 +45,8 @@ bool SparseCompatibility::gather(const Eigen::MatrixXd& A, bool lower, std::vect
   return changed;
 }
 
-void SparseCompatibility::analyse_mass(int n) {
+void SparseCompatibility::analyse_mass(const Sparse& M) {
+  const int n = static_cast<int>(M.rows());
   // Union-find over the nonzeros of M's lower triangle.
   std::vector<int> parent(n);
   for (int i = 0; i < n; ++i) parent[i] = i;
@@ -54,18 +55,20 @@ void SparseCompatibility::analyse_mass(int n) {
     return i;
   };
   for (int j = 0; j < n; ++j)
-    for (Sparse::InnerIterator it(M_, j); it; ++it) {
+    for (Sparse::InnerIterator it(M, j); it; ++it) {
       const int a = root(static_cast<int>(it.row())), b = root(j);
       if (a != b) parent[std::max(a, b)] = std::min(a, b);
     }
   std::vector<int> block_of(n, -1);
   blocks_.clear();
+  local_.assign(n, 0);
   for (int i = 0; i < n; ++i) {
     const int r = root(i);
     if (block_of[r] < 0) {
       block_of[r] = static_cast<int>(blocks_.size());
       blocks_.emplace_back();
     }
+    local_[i] = static_cast<int>(blocks_[block_of[r]].size());
     blocks_[block_of[r]].push_back(i);  // ascending
   }
   largest_block_ = 0;
@@ -78,6 +81,8 @@ void SparseCompatibility::analyse_mass(int n) {
   Minv_.resize(n, n);
   Minv_.setFromTriplets(entries.begin(), entries.end());
   Minv_.makeCompressed();
+  M_outer_.assign(M.outerIndexPtr(), M.outerIndexPtr() + M.cols() + 1);
+  M_inner_.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
   ++analyses_M_;
 }
 
@@ -85,8 +90,32 @@ SparseCompatibility::Outcome SparseCompatibility::solve(
     const Eigen::MatrixXd& M, const Eigen::MatrixXd& g, const Eigen::VectorXd& f,
     const Eigen::VectorXd& gamma, double kSwitch, Eigen::VectorXd& G0, Eigen::VectorXd& lambda,
     Eigen::VectorXd& R, Eigen::VectorXd& qdd) {
-  const int n = static_cast<int>(M.rows());
-  if (gather(M, true, mask_M_, M_)) analyse_mass(n);
+  if (gather(M, true, mask_M_, M_)) analyse_mass(M_);
+  if (g.rows() > 0) gather(g, false, mask_g_, g_);
+  else g_.resize(0, M.cols());
+  Mp_ = &M_;
+  return solve_filled(g_, f, gamma, kSwitch, G0, lambda, R, qdd);
+}
+
+SparseCompatibility::Outcome SparseCompatibility::solve(
+    const SparseMatrixD& M_lower, const SparseMatrixD& g, const Eigen::VectorXd& f,
+    const Eigen::VectorXd& gamma, double kSwitch, Eigen::VectorXd& G0, Eigen::VectorXd& lambda,
+    Eigen::VectorXd& R, Eigen::VectorXd& qdd) {
+  const int c = static_cast<int>(M_lower.cols());
+  const bool same = static_cast<int>(M_outer_.size()) == c + 1 &&
+                    static_cast<int>(M_inner_.size()) == M_lower.nonZeros() &&
+                    std::equal(M_outer_.begin(), M_outer_.end(), M_lower.outerIndexPtr()) &&
+                    std::equal(M_inner_.begin(), M_inner_.end(), M_lower.innerIndexPtr());
+  if (!same) analyse_mass(M_lower);
+  Mp_ = &M_lower;
+  return solve_filled(g, f, gamma, kSwitch, G0, lambda, R, qdd);
+}
+
+SparseCompatibility::Outcome SparseCompatibility::solve_filled(
+    const Sparse& gs, const Eigen::VectorXd& f, const Eigen::VectorXd& gamma, double kSwitch,
+    Eigen::VectorXd& G0, Eigen::VectorXd& lambda, Eigen::VectorXd& R, Eigen::VectorXd& qdd) {
+  const Sparse& M = *Mp_;
+  min_pivot_ratio_ = 1.0;
   if (largest_block_ > kMaxBlock) return Outcome::not_sparse;
   // M⁻¹ block by block. M must be positive definite with a pivot ratio above 1e-13, the dense
   // kernel's criterion on the squared diagonal of its Cholesky factor (here of the blocks').
@@ -95,9 +124,12 @@ SparseCompatibility::Outcome SparseCompatibility::solve(
   const int* outer = Minv_.outerIndexPtr();
   for (const auto& b : blocks_) {
     const int k = static_cast<int>(b.size());
-    block_.resize(k, k);
-    for (int j = 0; j < k; ++j)
-      for (int i = 0; i < k; ++i) block_(i, j) = M(std::max(b[i], b[j]), std::min(b[i], b[j]));
+    block_.setZero(k, k);
+    for (int j = 0; j < k; ++j)  // the lower triangle's entries of the block's columns
+      for (Sparse::InnerIterator it(M, b[j]); it; ++it) {
+        const int i = local_[it.row()];
+        block_(i, j) = block_(j, i) = it.value();
+      }
     Eigen::LLT<Eigen::MatrixXd> llt(block_);
     if (llt.info() != Eigen::Success) return Outcome::singular_mass;
     const auto d = llt.matrixLLT().diagonal().cwiseAbs2();
@@ -111,16 +143,15 @@ SparseCompatibility::Outcome SparseCompatibility::solve(
   }
   if (!(dmin > 1e-13 * dmax)) return Outcome::singular_mass;
   a0_.noalias() = Minv_ * f;
-  if (g.rows() == 0) {
+  if (gs.rows() == 0) {
     R.setZero();
     qdd = a0_;
     return Outcome::solved;
   }
-  gather(g, false, mask_g_, g_);
   G0 = gamma;
-  G0.noalias() += g_ * a0_;
+  G0.noalias() += gs * a0_;
   // S = g M⁻¹ gᵀ by sparse products (g M⁻¹ has g's pattern widened to whole blocks).
-  S_ = Sparse(g_ * Minv_) * Sparse(g_.transpose());
+  S_ = Sparse(gs * Minv_) * Sparse(gs.transpose());
   S_.makeCompressed();
   const int s = static_cast<int>(S_.cols());
   const bool same = static_cast<int>(S_outer_.size()) == s + 1 &&
@@ -142,11 +173,12 @@ SparseCompatibility::Outcome SparseCompatibility::solve(
     const Eigen::VectorXd& d = ldlt_S_.vectorD();
     const double dmax = d.maxCoeff();
     for (int j = 0; j < s; ++j) {
+      min_pivot_ratio_ = std::min(min_pivot_ratio_, d[j] / sdiag_[j]);
       if (!(d[j] > 1e-13 * dmax) || d[j] < kSwitch * sdiag_[j]) return Outcome::dependent_rows;
     }
   }
   lambda = ldlt_S_.solve(-G0);
-  R.noalias() = g_.transpose() * lambda;
+  R.noalias() = gs.transpose() * lambda;
   qdd = a0_;
   qdd.noalias() += Minv_ * R;
   return Outcome::solved;
@@ -175,7 +207,15 @@ bool SparseMinNorm::solve(const Eigen::MatrixXd& g, const Eigen::VectorXd& b, Ei
     return true;
   }
   SparseCompatibility::gather(g, false, mask_, g_);
-  A_ = g_ * Sparse(g_.transpose());
+  return solve(g_, b, x);
+}
+
+bool SparseMinNorm::solve(const SparseMatrixD& gs, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (gs.rows() == 0) {
+    x = Eigen::VectorXd::Zero(gs.cols());
+    return true;
+  }
+  A_ = gs * Sparse(gs.transpose());
   A_.makeCompressed();
   if (!same_pattern(A_, outer_, inner_)) ldlt_.analyzePattern(A_);
   ldlt_.factorize(A_);
@@ -185,8 +225,93 @@ bool SparseMinNorm::solve(const Eigen::MatrixXd& g, const Eigen::VectorXd& b, Ei
   for (Eigen::Index j = 0; j < d.size(); ++j)
     if (!(d[j] > kDependent * diag_[j])) return false;
   const Eigen::VectorXd y = ldlt_.solve(b);
-  x.noalias() = g_.transpose() * y;
+  x.noalias() = gs.transpose() * y;
   return true;
+}
+
+}  // namespace pcsim::mech
+
+// ---- the model's sparse values ------------------------------------------------------------------
+
+namespace pcsim::mech {
+
+namespace {
+// A compressed matrix with the given (row, col) entries (values zero) and, per entry in the
+// given order, its place among the matrix's values.
+void build_pattern(int rows, int cols, const std::vector<std::pair<int, int>>& entries,
+                   SparseMatrixD& A, std::vector<int>& place) {
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(entries.size());
+  for (const auto& [i, j] : entries) t.emplace_back(i, j, 0.0);
+  A.resize(rows, cols);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  place.resize(entries.size());
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const auto [i, j] = entries[k];
+    const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[j];
+    const int* end = A.innerIndexPtr() + A.outerIndexPtr()[j + 1];
+    place[k] = static_cast<int>(std::lower_bound(begin, end, i) - A.innerIndexPtr());
+  }
+}
+bool finite(const SparseMatrixD& A) {
+  const double* v = A.valuePtr();
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k)
+    if (!std::isfinite(v[k])) return false;
+  return true;
+}
+}  // namespace
+
+void SparseMass::evaluate(const Model& model, double t, const Eigen::VectorXd& q,
+                          const Eigen::VectorXd& qd, Eigen::VectorXd& h) {
+  const Model::SparsePattern& p = model.sparse_pattern();
+  if (model_ != &model || place_.size() != p.mass.size()) {
+    std::vector<std::pair<int, int>> lower;
+    lower.reserve(p.mass.size());
+    for (const auto& [i, j] : p.mass) lower.emplace_back(std::max(i, j), std::min(i, j));
+    build_pattern(model.n(), model.n(), lower, L_, place_);
+    values_.resize(p.mass.size());
+    model_ = &model;
+  }
+  model.kinetic_terms_sparse(t, q, qd, values_.data(), h);
+  double* v = L_.valuePtr();
+  for (std::size_t k = 0; k < values_.size(); ++k) v[place_[k]] = values_[k];
+}
+
+bool SparseMass::all_finite() const { return finite(L_); }
+
+void SparseMass::to_dense(Eigen::MatrixXd& M) const {
+  M.setZero(L_.rows(), L_.cols());
+  for (int j = 0; j < L_.outerSize(); ++j)
+    for (SparseMatrixD::InnerIterator it(L_, j); it; ++it)
+      M(it.row(), j) = M(j, it.row()) = it.value();
+}
+
+void SparseRows::evaluate(const Model& model, const std::vector<int>& active, double t,
+                          const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Eigen::VectorXd& g0,
+                          Eigen::VectorXd& gamma) {
+  if (model_ != &model || active != active_) {
+    const Model::SparsePattern& p = model.sparse_pattern();
+    std::vector<std::pair<int, int>> entries;
+    for (std::size_t r = 0; r < active.size(); ++r)
+      for (int k : p.rows[static_cast<std::size_t>(active[r])]) entries.emplace_back(static_cast<int>(r), k);
+    build_pattern(static_cast<int>(active.size()), model.n(), entries, g_, place_);
+    values_.resize(entries.size());
+    model_ = &model;
+    active_ = active;
+  }
+  if (active.empty()) return;
+  model.constraint_rows_sparse(active, t, q, qd, values_.data(), g0, gamma);
+  double* v = g_.valuePtr();
+  for (std::size_t k = 0; k < values_.size(); ++k) v[place_[k]] = values_[k];
+}
+
+bool SparseRows::all_finite() const { return finite(g_); }
+
+void SparseRows::to_dense(Eigen::MatrixXd& g) const {
+  g.setZero(g_.rows(), g_.cols());
+  for (int j = 0; j < g_.outerSize(); ++j)
+    for (SparseMatrixD::InnerIterator it(g_, j); it; ++it) g(it.row(), j) = it.value();
 }
 
 }  // namespace pcsim::mech

@@ -17,7 +17,53 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#include "mech/model.hpp"
+
 namespace pcsim::mech {
+
+using SparseMatrixD = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+/// M of a model with sparse structure (Model::has_sparse_structure) as a compressed sparse
+/// matrix: its lower triangle (n x n, column-major), the pattern built once from
+/// Model::sparse_pattern(), the values copied in per evaluation (O(entries), no dense work).
+class SparseMass {
+ public:
+  /// M's values and h at the state (Model::kinetic_terms_sparse); h sized n.
+  void evaluate(const Model& model, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                Eigen::VectorXd& h);
+  const SparseMatrixD& lower() const { return L_; }
+  bool all_finite() const;
+  /// The dense symmetric M (n x n, resized if needed): for the dense paths (rare hand-overs).
+  void to_dense(Eigen::MatrixXd& M) const;
+
+ private:
+  const Model* model_ = nullptr;
+  SparseMatrixD L_;
+  std::vector<int> place_;  // value k of the model's order -> its place in L_'s values
+  std::vector<double> values_;
+};
+
+/// The rows g (s x n) of an active set of a model with sparse structure, compressed (column-
+/// major), pattern built from Model::sparse_pattern() when the active set changes, values
+/// copied in per evaluation.
+class SparseRows {
+ public:
+  /// g's values, g0 and γ (sized s) at the state (Model::constraint_rows_sparse).
+  void evaluate(const Model& model, const std::vector<int>& active, double t,
+                const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Eigen::VectorXd& g0,
+                Eigen::VectorXd& gamma);
+  const SparseMatrixD& matrix() const { return g_; }
+  bool all_finite() const;
+  /// The dense g (s x n, resized if needed).
+  void to_dense(Eigen::MatrixXd& g) const;
+
+ private:
+  const Model* model_ = nullptr;
+  std::vector<int> active_;
+  SparseMatrixD g_;
+  std::vector<int> place_;
+  std::vector<double> values_;
+};
 
 class SparseCompatibility {
  public:
@@ -33,6 +79,13 @@ class SparseCompatibility {
   Outcome solve(const Eigen::MatrixXd& M, const Eigen::MatrixXd& g, const Eigen::VectorXd& f,
                 const Eigen::VectorXd& gamma, double kSwitch, Eigen::VectorXd& G0,
                 Eigen::VectorXd& lambda, Eigen::VectorXd& R, Eigen::VectorXd& qdd);
+  /// The same from a model's sparse values (SparseMass, SparseRows): no dense matrix is read.
+  Outcome solve(const SparseMatrixD& M_lower, const SparseMatrixD& g, const Eigen::VectorXd& f,
+                const Eigen::VectorXd& gamma, double kSwitch, Eigen::VectorXd& G0,
+                Eigen::VectorXd& lambda, Eigen::VectorXd& R, Eigen::VectorXd& qdd);
+  /// After a solve that reached the factorization of S: the smallest D_jj / S_jj (sin² of the
+  /// angle between a row and the span of the rows before it, M⁻¹ metric; 1 when s = 0).
+  double min_pivot_ratio() const { return min_pivot_ratio_; }
   /// How many symbolic analyses were done (of M, of S): a fixed pattern gives one each.
   int analyses_M() const { return analyses_M_; }
   int analyses_S() const { return analyses_S_; }
@@ -41,10 +94,15 @@ class SparseCompatibility {
   using Sparse = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
   using LDLT = Eigen::SimplicialLDLT<Sparse, Eigen::Lower, Eigen::AMDOrdering<int>>;
   // The blocks of M (connected components of its pattern) and M⁻¹'s pattern (full blocks).
-  void analyse_mass(int n);
+  void analyse_mass(const Sparse& M);
+  const Sparse* Mp_ = nullptr;  // the M of the current solve (M_ or the caller's)
   // Copies the values of the dense A (its lower triangle if lower) into the sparse pattern S,
   // widening the pattern first if A has a nonzero outside it; true if the pattern changed.
   static bool gather(const Eigen::MatrixXd& A, bool lower, std::vector<char>& mask, Sparse& S);
+  // The solve on M_ (lower triangle, pattern analysed) and g.
+  Outcome solve_filled(const Sparse& g, const Eigen::VectorXd& f, const Eigen::VectorXd& gamma,
+                       double kSwitch, Eigen::VectorXd& G0, Eigen::VectorXd& lambda,
+                       Eigen::VectorXd& R, Eigen::VectorXd& qdd);
   friend class SparseMinNorm;
 
   std::vector<char> mask_M_, mask_g_;
@@ -54,6 +112,9 @@ class SparseCompatibility {
   int largest_block_ = 0;
   Eigen::MatrixXd block_, block_inv_;
   std::vector<int> S_outer_, S_inner_;  // the pattern S was analysed for
+  std::vector<int> M_outer_, M_inner_;  // the pattern of M analyse_mass was done for
+  std::vector<int> local_;              // coordinate -> its index within its block
+  double min_pivot_ratio_ = 1.0;
   int analyses_M_ = 0, analyses_S_ = 0;
   Eigen::VectorXd a0_, sdiag_;
 };
@@ -67,6 +128,8 @@ class SparseMinNorm {
  public:
   static constexpr double kDependent = 1e-10;
   bool solve(const Eigen::MatrixXd& g, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  /// The same for a compressed g (SparseRows::matrix()).
+  bool solve(const SparseMatrixD& g, const Eigen::VectorXd& b, Eigen::VectorXd& x);
 
  private:
   using Sparse = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;

@@ -71,6 +71,12 @@ ExpressionModel::ExpressionModel(std::shared_ptr<const CompiledModel> compiled,
     c.mu_static = value(1);
     c.mu_kinetic = slots[2] >= 0 ? value(2) : c.mu_static;
   }
+  // The sparse pattern: the results of the tape that are not the literal zero (structural).
+  pattern_.mass.reserve(compiled_->mass_entries.size());
+  for (const auto& e : compiled_->mass_entries) pattern_.mass.emplace_back(e.i, e.j);
+  pattern_.rows.resize(compiled_->row_entries.size());
+  for (std::size_t c = 0; c < compiled_->row_entries.size(); ++c)
+    for (const auto& e : compiled_->row_entries[c]) pattern_.rows[c].push_back(e.j);
 }
 
 double* ExpressionModel::values(double t, const Eigen::VectorXd& q,
@@ -155,6 +161,37 @@ void ExpressionModel::constraint_rows(const std::vector<int>& active, double t,
   }
 }
 
+void ExpressionModel::kinetic_terms_sparse(double t, const Eigen::VectorXd& q,
+                                           const Eigen::VectorXd& qd, double* mass_values,
+                                           Eigen::VectorXd& h) const {
+  const CompiledModel& c = *compiled_;
+  const Block& b = c.tape.blocks[c.kinetic_block];
+  double* v = values(t, q, &qd);
+  c.run_block(c.kinetic_block, v);
+  for (std::size_t k = 0; k < c.mass_entries.size(); ++k) mass_values[k] = v[c.mass_entries[k].slot];
+  const int n = c.tape.n;
+  const std::uint32_t* hr = b.results.data() + n * (n + 1) / 2;
+  for (int i = 0; i < n; ++i) h[i] = v[hr[i]];
+}
+
+void ExpressionModel::constraint_rows_sparse(const std::vector<int>& active, double t,
+                                             const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                             double* row_values, Eigen::VectorXd& g0,
+                                             Eigen::VectorXd& gamma) const {
+  const CompiledModel& c = *compiled_;
+  const int n = c.tape.n;
+  if (active.empty()) return;
+  double* v = values(t, q, &qd);
+  for (std::size_t r = 0; r < active.size(); ++r) {
+    const int i = active[r];
+    const Block& b = c.tape.blocks[c.constraint_blocks[i].rows];
+    c.run_block(c.constraint_blocks[i].rows, v);
+    for (const auto& e : c.row_entries[i]) *row_values++ = v[e.slot];
+    g0[static_cast<int>(r)] = v[b.results[n]];
+    gamma[static_cast<int>(r)] = v[b.results[n + 1]];
+  }
+}
+
 double ExpressionModel::position_residual(int i, double t, const Eigen::VectorXd& q) const {
   const CompiledModel& c = *compiled_;
   if (i < 0 || i >= static_cast<int>(c.constraint_blocks.size()) ||
@@ -165,6 +202,23 @@ double ExpressionModel::position_residual(int i, double t, const Eigen::VectorXd
   double* v = values(t, q, nullptr);
   c.run_block(c.constraint_blocks[i].position, v);
   return v[b.results[0]];
+}
+
+void ExpressionModel::position_residuals(const std::vector<int>& rows, double t,
+                                         const Eigen::VectorXd& q, double* out) const {
+  const CompiledModel& c = *compiled_;
+  if (rows.empty()) return;
+  double* v = values(t, q, nullptr);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const int i = rows[k];
+    if (i < 0 || i >= static_cast<int>(c.constraint_blocks.size()) ||
+        c.constraint_blocks[i].position < 0) {
+      out[k] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    c.run_block(c.constraint_blocks[i].position, v);
+    out[k] = v[c.tape.blocks[c.constraint_blocks[i].position].results[0]];
+  }
 }
 
 void ExpressionModel::derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,

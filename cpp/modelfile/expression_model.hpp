@@ -72,6 +72,8 @@ class ExpressionModel final : public mech::Model {
                        const Eigen::VectorXd& qd, Eigen::MatrixXd& g, Eigen::VectorXd& g0,
                        Eigen::VectorXd& gamma) const override;
   double position_residual(int i, double t, const Eigen::VectorXd& q) const override;
+  void position_residuals(const std::vector<int>& rows, double t, const Eigen::VectorXd& q,
+                          double* out) const override;
   void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                Eigen::VectorXd& out) const override;
@@ -79,6 +81,15 @@ class ExpressionModel final : public mech::Model {
                                 const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
                                 const std::vector<int>& imposed, const Eigen::VectorXd& lambda,
                                 Eigen::VectorXd& out) const override;
+
+  // ---- sparse structure: the tape's entries (CompiledModel::mass_entries, row_entries) ------
+  bool has_sparse_structure() const override { return true; }
+  const SparsePattern& sparse_pattern() const override { return pattern_; }
+  void kinetic_terms_sparse(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                            double* mass_values, Eigen::VectorXd& h) const override;
+  void constraint_rows_sparse(const std::vector<int>& active, double t, const Eigen::VectorXd& q,
+                              const Eigen::VectorXd& qd, double* row_values, Eigen::VectorXd& g0,
+                              Eigen::VectorXd& gamma) const override;
 
   // ---- forward mode: k directions at once ---------------------------------------------------
   // V is (2n + 1) x k: each column a direction (δq, δq̇, δt). The outputs are the values (as
@@ -109,6 +120,7 @@ class ExpressionModel final : public mech::Model {
 
   std::shared_ptr<const CompiledModel> compiled_;
   std::vector<double> constants_;
+  SparsePattern pattern_;  ///< from the compiled model's entries
   std::uint64_t id_;  ///< unique per instance: marks whose constants a thread's scratch holds
 };
 

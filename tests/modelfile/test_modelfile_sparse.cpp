@@ -19,6 +19,7 @@
 
 #include "mech/dynamics.hpp"
 #include "mech/projection.hpp"
+#include "mech/simulation.hpp"
 #include "modelfile/model_file.hpp"
 #include "modelfile_test_util.hpp"
 #include "chain_model.hpp"
@@ -59,6 +60,7 @@ BOOST_AUTO_TEST_CASE(sparse_and_dense_structured_solves_agree_on_every_model) {
       mech::Dynamics dense(*model, Kernel::cpp), sparse(*model, Kernel::cpp);
       dense.sparse_min_n = INT_MAX;
       sparse.sparse_min_n = 0;
+      sparse.sparse_evaluation = true;  // M and g from the model's sparse values (issue 23)
       for (int k = 0; k < 8; ++k) {
         const double shift = k % 2 ? 1e3 : 0.0;  // far from the origin on odd states
         Eigen::VectorXd q(n), qd(n);
@@ -70,6 +72,7 @@ BOOST_AUTO_TEST_CASE(sparse_and_dense_structured_solves_agree_on_every_model) {
         const auto e1 = dense.evaluate(set, t, q, qd);
         const auto e2 = sparse.evaluate(set, t, q, qd);
         BOOST_TEST(static_cast<int>(e1) == static_cast<int>(e2));
+        BOOST_TEST(sparse.sparse_evaluated());
         if (e1 != mech::ModelIssue::none) continue;
         const auto r1 = dense.solve(mech::ReactionMethod::compatibility_structured);
         const auto r2 = sparse.solve(mech::ReactionMethod::compatibility_structured);
@@ -174,4 +177,140 @@ BOOST_AUTO_TEST_CASE(sparse_path_is_the_default_for_large_models_and_analyses_on
   }
   BOOST_TEST(dyn.sparse_solver().analyses_M() == 1);
   BOOST_TEST(dyn.sparse_solver().analyses_S() == 1);
+}
+
+namespace {
+
+// The same model without its sparse structure (the dense interface only): the oracle of the
+// runs below, every evaluation dense as before issue 23's sparse interface.
+class DenseOnly final : public mech::Model {
+ public:
+  explicit DenseOnly(std::shared_ptr<const mech::Model> m) : m_(std::move(m)) {
+    name_ = m_->name();
+    coordinates_ = m_->coordinates();
+    constraints_ = m_->constraints();
+    derived_names_ = m_->derived_names();
+  }
+  void kinetic_terms(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                     Eigen::MatrixXd& M, Eigen::VectorXd& h) const override {
+    m_->kinetic_terms(t, q, qd, M, h);
+  }
+  void forces(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+              Eigen::VectorXd& Q) const override {
+    m_->forces(t, q, qd, Q);
+  }
+  void constraint_rows(const std::vector<int>& active, double t, const Eigen::VectorXd& q,
+                       const Eigen::VectorXd& qd, Eigen::MatrixXd& g, Eigen::VectorXd& g0,
+                       Eigen::VectorXd& gamma) const override {
+    m_->constraint_rows(active, t, q, qd, g, g0, gamma);
+  }
+  double position_residual(int i, double t, const Eigen::VectorXd& q) const override {
+    return m_->position_residual(i, t, q);
+  }
+  void derived(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+               const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
+               Eigen::VectorXd& out) const override {
+    m_->derived(t, q, qd, qdd, R, out);
+  }
+
+ private:
+  std::shared_ptr<const mech::Model> m_;
+};
+
+std::shared_ptr<const mech::Model> chain_model(int N) {
+  const std::string text = pendulum_chain_toml(N);
+  const toml::table doc = toml::parse(text);
+  return parse_model_table(*doc["model"].as_table(), "chain.toml")->instantiate({});
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(sparse_model_values_agree_with_the_dense_model_on_large_models) {
+  // The chains of 20 and 40 links (n = 60, 120) and every model in models/ with n >= 60, at
+  // random states (odd ones far from the origin), with and without Baumgarte terms: the model's
+  // sparse values give exactly its dense M and g (densify), and the sparse path fed by them
+  // (Dynamics::sparse_evaluation, default threshold) gives R, lambda and q̈ within 1e-12 of the
+  // dense structured solve (relative: a different elimination order, rounding only; the
+  // chain's g M^-1 g^T is well conditioned).
+  std::vector<std::pair<std::string, std::shared_ptr<const mech::Model>>> models = {
+      {"chain 20", chain_model(20)}, {"chain 40", chain_model(40)}};
+  for (const auto& file : model_files()) {
+    const auto desc = load_model_file(file);
+    if (static_cast<int>(desc->coordinates().size()) < mech::Dynamics::kSparseMinN) continue;
+    models.emplace_back(file.filename().string(), desc->instantiate({}));
+  }
+  BOOST_TEST(models.size() >= 3u);  // pendulum_chain_30 at least
+  std::mt19937 rng(2323);
+  int solved = 0;
+  for (const auto& [name, model] : models) {
+    BOOST_TEST_CONTEXT(name) {
+      BOOST_TEST(model->has_sparse_structure());
+      const int n = model->n(), s = static_cast<int>(model->constraints().size());
+      std::vector<int> all(s);
+      for (int i = 0; i < s; ++i) all[i] = i;
+      const mech::ActiveSet set = mech::ActiveSet::of(*model, all);
+      for (const auto stab : {mech::Stabilization::none, mech::Stabilization::baumgarte}) {
+        mech::Dynamics dense(*model, Kernel::cpp, stab, 5.0, 7.0);
+        mech::Dynamics sparse(*model, Kernel::cpp, stab, 5.0, 7.0);
+        dense.sparse_min_n = INT_MAX;
+        sparse.sparse_evaluation = true;
+        for (int k = 0; k < 4; ++k) {
+          const double shift = k % 2 ? 1e3 : 0.0;
+          Eigen::VectorXd q(n), qd(n);
+          for (int i = 0; i < n; ++i) {
+            q[i] = shift + uniform(rng);
+            qd[i] = uniform(rng);
+          }
+          BOOST_TEST(static_cast<int>(dense.evaluate(set, 0.3, q, qd)) == 0);
+          BOOST_TEST(static_cast<int>(sparse.evaluate(set, 0.3, q, qd)) == 0);
+          BOOST_TEST(sparse.sparse_evaluated());
+          BOOST_TEST(rel_diff(sparse.gamma, dense.gamma) <= 1e-14);
+          BOOST_TEST(static_cast<int>(dense.solve(mech::ReactionMethod::compatibility_structured)) == 0);
+          BOOST_TEST(static_cast<int>(sparse.solve(mech::ReactionMethod::compatibility_structured)) == 0);
+          BOOST_TEST(sparse.used_sparse);
+          BOOST_TEST(!sparse.rank_revealing);
+          BOOST_TEST(!dense.rank_revealing);
+          BOOST_TEST(sparse.velocity_residual(qd) == dense.velocity_residual(qd));
+          BOOST_TEST(rel_diff(sparse.R, dense.R) <= 1e-12);
+          BOOST_TEST(rel_diff(sparse.lambda, dense.lambda) <= 1e-12);
+          BOOST_TEST(rel_diff(sparse.qdd, dense.qdd) <= 1e-12);
+          ++solved;
+          // The dense matrices filled from the sparse values are the model's, exactly.
+          sparse.densify();
+          BOOST_TEST((sparse.M.array() == dense.M.array()).all());
+          BOOST_TEST((sparse.g.array() == dense.g.array()).all());
+        }
+      }
+    }
+  }
+  BOOST_TEST(solved >= 24);
+}
+
+BOOST_AUTO_TEST_CASE(a_run_on_sparse_values_follows_the_dense_run) {
+  // mech::simulate takes the sparse values for a model with the structure (n >= 60); the same
+  // chain without its structure runs dense throughout. 0.05 s of motion of a 20-link chain
+  // (drift projection on): the end states agree to the integrator's tolerance (the two runs
+  // round differently, so step sizes may differ in their last bits).
+  const auto sparse_model = chain_model(20);
+  const DenseOnly dense_model(sparse_model);
+  BOOST_TEST(!dense_model.has_sparse_structure());
+  const int n = sparse_model->n();
+  Eigen::VectorXd q0(n), qd0 = Eigen::VectorXd::Zero(n);
+  const double a = 0.5, h = 0.05;
+  for (int i = 0; i < n / 3; ++i)
+    q0.segment(3 * i, 3) << (2 * i + 1) * h * std::sin(a), -(2 * i + 1) * h * std::cos(a), a;
+  mech::SimulationOptions o;
+  o.kernel = Kernel::cpp;
+  o.method = OdeMethod::automatic;
+  o.t_end = 0.05;
+  o.rtol = o.atol = 1e-10;
+  const auto r1 = mech::simulate(*sparse_model, q0, qd0, o);
+  const auto r2 = mech::simulate(dense_model, q0, qd0, o);
+  BOOST_TEST(static_cast<int>(r1.status) == static_cast<int>(mech::SimulationStatus::success));
+  BOOST_TEST(static_cast<int>(r2.status) == static_cast<int>(mech::SimulationStatus::success));
+  BOOST_TEST((r1.q_end - q0).norm() > 1e-3);  // it moved
+  BOOST_TEST((r1.q_end - r2.q_end).cwiseAbs().maxCoeff() <= 1e-9);
+  BOOST_TEST((r1.qd_end - r2.qd_end).cwiseAbs().maxCoeff() <= 1e-8);
+  BOOST_TEST(r1.residual_pos_max <= 1e-9);
+  BOOST_TEST(std::abs(r1.residual_vel_max - r2.residual_vel_max) <= 1e-9);
 }
