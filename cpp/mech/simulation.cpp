@@ -278,6 +278,12 @@ class Run {
         sample_dyn_.solve(ReactionMethod::compatibility_structured) == ModelIssue::none &&
         sample_dyn_.used_sparse && !sample_dyn_.rank_revealing) {
       r0_ = s_;
+      // The watch threshold relative to the start: the smallest pivot ratio of a regular chain
+      // falls as ~0.66/N (g M⁻¹ gᵀ is a discrete Laplacian along it: 2.2e-2 at N = 30, 6.6e-4
+      // at N = 1000), so a fixed threshold watched every step of a long chain with dense SVDs
+      // (99 % of a 1000-link run). Approaching a singular position drives the ratio towards 0,
+      // far below a tenth of where a run started.
+      watch_sparse_ = std::min(kWatchSparse, kWatchSparseRelative * sample_dyn_.min_pivot_ratio());
       return;
     }
     Eigen::VectorXd sv;
@@ -344,11 +350,12 @@ class Run {
     // took the rank-revealing path or came within kWatch (sin² of a row's angle to the others'
     // span, about 0.22 rad) of a singular position, and the step after it (a minimum at the
     // boundary between them is located in the later one).
-    // Large sparse models watch from a pivot ratio of kWatchSparse: a regular pendulum chain
+    // Large sparse models watch from a pivot ratio of kWatchSparse, or a tenth of the start's
+    // where that is lower (start_rank): a regular pendulum chain
     // has pivots below kWatch in the sparse factor's order, and each watched step costs dense
     // SVDs of g (O(s² n)), minutes at n = 3000. A row within 0.03 rad of the others' span is
     // still watched, and the solve hands over (rank-revealing: watched) at 0.01 rad.
-    const bool near = step_pivot_ < (sparse_rows_ ? kWatchSparse : kWatch) ||
+    const bool near = step_pivot_ < (sparse_rows_ ? watch_sparse_ : kWatch) ||
                       method_ != ReactionMethod::compatibility_structured;
     step_pivot_ = 1.0;
     if (s_ == 0 || r0_ == 0 || !(step.t > step.t_prev)) return;
@@ -518,6 +525,8 @@ class Run {
   bool watch_next_ = false;
   static constexpr double kWatch = 0.05;
   static constexpr double kWatchSparse = 1e-3;
+  static constexpr double kWatchSparseRelative = 0.1;  // of the start's smallest pivot ratio
+  double watch_sparse_ = kWatchSparse;
   int r0_ = 0;
   std::vector<int> dependent_start_;
   RankChange open_;
