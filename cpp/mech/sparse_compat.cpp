@@ -84,6 +84,111 @@ void SparseCompatibility::analyse_mass(const Sparse& M) {
   M_outer_.assign(M.outerIndexPtr(), M.outerIndexPtr() + M.cols() + 1);
   M_inner_.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
   ++analyses_M_;
+  plan_valid_ = false;
+}
+
+bool SparseCompatibility::invert_blocks(double& dmin, double& dmax) {
+  const Sparse& M = *Mp_;
+  double* minv = Minv_.valuePtr();
+  const int* outer = Minv_.outerIndexPtr();
+  for (const auto& b : blocks_) {
+    const int k = static_cast<int>(b.size());
+    chol_.assign(static_cast<std::size_t>(2 * k * k), 0.0);
+    double* a = chol_.data();          // the block, then its factor L (lower, row-major a[i*k+j])
+    double* li = chol_.data() + k * k;  // L⁻¹ (lower)
+    for (int j = 0; j < k; ++j)  // the lower triangle's entries of the block's columns
+      for (Sparse::InnerIterator it(M, b[j]); it; ++it) a[local_[it.row()] * k + j] = it.value();
+    for (int j = 0; j < k; ++j) {  // Cholesky, column by column
+      double d = a[j * k + j];
+      for (int p = 0; p < j; ++p) d -= a[j * k + p] * a[j * k + p];
+      if (!(d > 0.0)) return false;
+      dmin = std::min(dmin, d);
+      dmax = std::max(dmax, d);
+      const double ljj = std::sqrt(d);
+      a[j * k + j] = ljj;
+      for (int i = j + 1; i < k; ++i) {
+        double v = a[i * k + j];
+        for (int p = 0; p < j; ++p) v -= a[i * k + p] * a[j * k + p];
+        a[i * k + j] = v / ljj;
+      }
+    }
+    for (int j = 0; j < k; ++j) {  // L⁻¹ by forward substitution, column j
+      li[j * k + j] = 1.0 / a[j * k + j];
+      for (int i = j + 1; i < k; ++i) {
+        double v = 0.0;
+        for (int p = j; p < i; ++p) v -= a[i * k + p] * li[p * k + j];
+        li[i * k + j] = v / a[i * k + i];
+      }
+    }
+    for (int j = 0; j < k; ++j) {  // M⁻¹ = L⁻ᵀ L⁻¹, into rows b[0..k) of column b[j]
+      double* col = minv + outer[b[j]];
+      for (int i = 0; i < k; ++i) {
+        double v = 0.0;
+        for (int p = std::max(i, j); p < k; ++p) v += li[p * k + i] * li[p * k + j];
+        col[i] = v;
+      }
+    }
+  }
+  return true;
+}
+
+void SparseCompatibility::plan_products(const Sparse& g) {
+  const int s = static_cast<int>(g.rows()), n = static_cast<int>(g.cols());
+  g_outer_.assign(g.outerIndexPtr(), g.outerIndexPtr() + n + 1);
+  g_inner_.assign(g.innerIndexPtr(), g.innerIndexPtr() + g.nonZeros());
+  // g by rows: for row i, its (column, value index) pairs, columns ascending.
+  std::vector<int> row_start(static_cast<std::size_t>(s) + 1, 0);
+  for (int p = 0; p < g.nonZeros(); ++p) ++row_start[g_inner_[p] + 1];
+  for (int i = 0; i < s; ++i) row_start[i + 1] += row_start[i];
+  std::vector<int> row_col(static_cast<std::size_t>(g.nonZeros())), row_val(row_col.size());
+  {
+    std::vector<int> fill(row_start.begin(), row_start.end() - 1);
+    for (int c = 0; c < n; ++c)
+      for (int p = g_outer_[c]; p < g_outer_[c + 1]; ++p) {
+        const int r = g_inner_[p];
+        row_col[fill[r]] = c;
+        row_val[fill[r]++] = p;
+      }
+  }
+  auto find = [](const Sparse& A, int row, int col) {  // value index of A(row, col), or -1
+    const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[col];
+    const int* end = A.innerIndexPtr() + A.outerIndexPtr()[col + 1];
+    const int* it = std::lower_bound(begin, end, row);
+    return it != end && *it == row ? static_cast<int>(it - A.innerIndexPtr()) : -1;
+  };
+  // W = g M⁻¹: W(i, c) = Σ_k g(i, k) M⁻¹(k, c), k over c's block (M⁻¹'s column c).
+  W_ = Sparse(g * Minv_);  // the pattern (structural: Minv_'s entries are stored in full blocks)
+  W_.makeCompressed();
+  w_plan_.clear();
+  for (int c = 0; c < n; ++c)
+    for (int p = W_.outerIndexPtr()[c]; p < W_.outerIndexPtr()[c + 1]; ++p) {
+      const int i = W_.innerIndexPtr()[p];
+      for (int m = Minv_.outerIndexPtr()[c]; m < Minv_.outerIndexPtr()[c + 1]; ++m) {
+        const int gk = find(g, i, Minv_.innerIndexPtr()[m]);
+        if (gk >= 0) w_plan_.insert(w_plan_.end(), {p, gk, m});
+      }
+    }
+  // S = W gᵀ, lower triangle: S(i, j) = Σ_c W(i, c) g(j, c), c over row j of g.
+  Sparse full = Sparse(W_ * Sparse(g.transpose()));
+  std::vector<Eigen::Triplet<double, int>> lower;
+  for (int j = 0; j < full.outerSize(); ++j)
+    for (Sparse::InnerIterator it(full, j); it; ++it)
+      if (it.row() >= j) lower.emplace_back(static_cast<int>(it.row()), j, 0.0);
+  S_.resize(s, s);
+  S_.setFromTriplets(lower.begin(), lower.end());
+  S_.makeCompressed();
+  s_plan_.clear();
+  for (int j = 0; j < s; ++j)
+    for (int p = S_.outerIndexPtr()[j]; p < S_.outerIndexPtr()[j + 1]; ++p) {
+      const int i = S_.innerIndexPtr()[p];
+      for (int q = row_start[j]; q < row_start[j + 1]; ++q) {
+        const int w = find(W_, i, row_col[q]);
+        if (w >= 0) s_plan_.insert(s_plan_.end(), {p, w, row_val[q]});
+      }
+    }
+  ldlt_S_.analyzePattern(S_);
+  ++analyses_S_;
+  plan_valid_ = true;
 }
 
 SparseCompatibility::Outcome SparseCompatibility::solve(
@@ -114,33 +219,12 @@ SparseCompatibility::Outcome SparseCompatibility::solve(
 SparseCompatibility::Outcome SparseCompatibility::solve_filled(
     const Sparse& gs, const Eigen::VectorXd& f, const Eigen::VectorXd& gamma, double kSwitch,
     Eigen::VectorXd& G0, Eigen::VectorXd& lambda, Eigen::VectorXd& R, Eigen::VectorXd& qdd) {
-  const Sparse& M = *Mp_;
   min_pivot_ratio_ = 1.0;
   if (largest_block_ > kMaxBlock) return Outcome::not_sparse;
   // M⁻¹ block by block. M must be positive definite with a pivot ratio above 1e-13, the dense
   // kernel's criterion on the squared diagonal of its Cholesky factor (here of the blocks').
   double dmin = INFINITY, dmax = 0.0;
-  double* minv = Minv_.valuePtr();
-  const int* outer = Minv_.outerIndexPtr();
-  for (const auto& b : blocks_) {
-    const int k = static_cast<int>(b.size());
-    block_.setZero(k, k);
-    for (int j = 0; j < k; ++j)  // the lower triangle's entries of the block's columns
-      for (Sparse::InnerIterator it(M, b[j]); it; ++it) {
-        const int i = local_[it.row()];
-        block_(i, j) = block_(j, i) = it.value();
-      }
-    Eigen::LLT<Eigen::MatrixXd> llt(block_);
-    if (llt.info() != Eigen::Success) return Outcome::singular_mass;
-    const auto d = llt.matrixLLT().diagonal().cwiseAbs2();
-    dmin = std::min(dmin, d.minCoeff());
-    dmax = std::max(dmax, d.maxCoeff());
-    block_inv_ = llt.solve(Eigen::MatrixXd::Identity(k, k));
-    for (int j = 0; j < k; ++j) {
-      double* col = minv + outer[b[j]];  // rows b[0..k) of column b[j], ascending
-      for (int i = 0; i < k; ++i) col[i] = block_inv_(i, j);
-    }
-  }
+  if (!invert_blocks(dmin, dmax)) return Outcome::singular_mass;
   if (!(dmin > 1e-13 * dmax)) return Outcome::singular_mass;
   a0_.noalias() = Minv_ * f;
   if (gs.rows() == 0) {
@@ -150,19 +234,26 @@ SparseCompatibility::Outcome SparseCompatibility::solve_filled(
   }
   G0 = gamma;
   G0.noalias() += gs * a0_;
-  // S = g M⁻¹ gᵀ by sparse products (g M⁻¹ has g's pattern widened to whole blocks).
-  S_ = Sparse(gs * Minv_) * Sparse(gs.transpose());
-  S_.makeCompressed();
-  const int s = static_cast<int>(S_.cols());
-  const bool same = static_cast<int>(S_outer_.size()) == s + 1 &&
-                    static_cast<int>(S_inner_.size()) == S_.nonZeros() &&
-                    std::equal(S_outer_.begin(), S_outer_.end(), S_.outerIndexPtr()) &&
-                    std::equal(S_inner_.begin(), S_inner_.end(), S_.innerIndexPtr());
-  if (!same) {
-    S_outer_.assign(S_.outerIndexPtr(), S_.outerIndexPtr() + s + 1);
-    S_inner_.assign(S_.innerIndexPtr(), S_.innerIndexPtr() + S_.nonZeros());
-    ldlt_S_.analyzePattern(S_);
-    ++analyses_S_;
+  // S = g M⁻¹ gᵀ (lower triangle) by the products' plan (g M⁻¹ has g's pattern widened to whole
+  // blocks); the plan and S's symbolic analysis are redone only when g's pattern changes.
+  const int s = static_cast<int>(gs.rows());
+  const bool same = plan_valid_ && static_cast<int>(g_outer_.size()) == gs.cols() + 1 &&
+                    static_cast<int>(g_inner_.size()) == gs.nonZeros() &&
+                    S_.rows() == s &&
+                    std::equal(g_outer_.begin(), g_outer_.end(), gs.outerIndexPtr()) &&
+                    std::equal(g_inner_.begin(), g_inner_.end(), gs.innerIndexPtr());
+  if (!same) plan_products(gs);
+  {
+    const double* gv = gs.valuePtr();
+    const double* mv = Minv_.valuePtr();
+    double* wv = W_.valuePtr();
+    std::fill(wv, wv + W_.nonZeros(), 0.0);
+    for (std::size_t k = 0; k < w_plan_.size(); k += 3)
+      wv[w_plan_[k]] += gv[w_plan_[k + 1]] * mv[w_plan_[k + 2]];
+    double* sv = S_.valuePtr();
+    std::fill(sv, sv + S_.nonZeros(), 0.0);
+    for (std::size_t k = 0; k < s_plan_.size(); k += 3)
+      sv[s_plan_[k]] += wv[s_plan_[k + 1]] * gv[s_plan_[k + 2]];
   }
   ldlt_S_.factorize(S_);
   if (ldlt_S_.info() != Eigen::Success) return Outcome::dependent_rows;

@@ -2,7 +2,7 @@
 // (g M⁻¹ gᵀ) λ = −(γ + g M⁻¹ f), for large models whose M is block-diagonal (absolute
 // coordinates: one small block per body) and whose g is sparse (each row touches a few
 // coordinates). M⁻¹ is formed block by block (a dense Cholesky per block, so M⁻¹ has M's
-// pattern), S = g M⁻¹ gᵀ by sparse products (banded for a chain), and S is factored by
+// pattern), S = g M⁻¹ gᵀ (banded for a chain) by sparse products planned once per pattern, and S is factored by
 // Eigen's SimplicialLDLT with the AMD fill-reducing ordering: its symbolic analysis is done
 // when the pattern first appears (again only if a new nonzero shows up: the pattern kept is
 // the union of those seen), the numeric factorization per evaluation. Dynamics uses it for
@@ -105,13 +105,25 @@ class SparseCompatibility {
                        Eigen::VectorXd& R, Eigen::VectorXd& qdd);
   friend class SparseMinNorm;
 
+  // The numeric plan of S = g M⁻¹ gᵀ (lower triangle), built when the pattern of g or of M
+  // changes: W = g M⁻¹ entry by entry (W's pattern is g's widened to whole blocks), then S from
+  // W and g; each product is a list of (target, left, right) value indices, so an evaluation
+  // allocates nothing and touches each product term once.
+  void plan_products(const Sparse& g);
+  bool plan_valid_ = false;
+  std::vector<int> g_outer_, g_inner_;  // the pattern of g the plan is for
+  std::vector<int> w_plan_, s_plan_;    // triples (target, left, right)
+  Sparse W_;
+  // M's blocks inverted in place by a small Cholesky (no allocation); false if a pivot is not
+  // positive. dmin/dmax: the range of the squared diagonal of the factor (the pivots).
+  bool invert_blocks(double& dmin, double& dmax);
+  std::vector<double> chol_;
+
   std::vector<char> mask_M_, mask_g_;
   Sparse M_, g_, S_, Minv_;
   LDLT ldlt_S_;
   std::vector<std::vector<int>> blocks_;
   int largest_block_ = 0;
-  Eigen::MatrixXd block_, block_inv_;
-  std::vector<int> S_outer_, S_inner_;  // the pattern S was analysed for
   std::vector<int> M_outer_, M_inner_;  // the pattern of M analyse_mass was done for
   std::vector<int> local_;              // coordinate -> its index within its block
   double min_pivot_ratio_ = 1.0;
