@@ -504,10 +504,10 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     if (set.contact.switching) return events_csv(sres);
     std::string text = "t,kind,constraint,mode_before,mode_after,normal,tangential,vn_before,"
                        "vn_after,vt_before,vt_after,energy_lost\n";
-    auto rows = rank_event_rows(r.rank);
-    std::stable_sort(rows.begin(), rows.end(),
+    auto changes = rank_event_rows(r.rank);
+    std::stable_sort(changes.begin(), changes.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& row : rows) text += row.second;
+    for (const auto& row : changes) text += row.second;
     return text;
   };
   if (client_mon) client_mon->finish(res, r);
