@@ -183,7 +183,10 @@ inline void refine_max_on_grid(const double* s, const double* f, int M, RunningM
     if (std::abs(step) < 1e-12) break;
   }
   const double value = p(u);
-  const double left = i > 0 ? f[i - 1] : f[i + 1], right = i < M ? f[i + 1] : f[i - 1];
+  // How far the samples fall around the best: over its two neighbours, or at an end of the
+  // grid over the two samples beside it (a peak inside the end interval, at u from the end,
+  // rises a u² above the end sample while the next one falls only a (1 - 2u) below it).
+  const double left = i > 0 ? f[i - 1] : f[i + 2], right = i < M ? f[i + 1] : f[i - 2];
   const double spread = f[i] - std::min(left, right);
   if (value >= f[i] && value - f[i] <= spread) best.offer(value, s[j0] + u * (s[1] - s[0]));
 }

@@ -135,10 +135,14 @@ class Monitor {
     constexpr int kIter = 24;
     // ... and stops earlier once the value has converged to a few units of rounding.
     constexpr double kValueRtol = 1e-14;
-    allowance_ += kEvaluationsPerStep;
     // The exact refinement (allowance left at the step's start) takes its samples as it always
     // has; past it, the step's start is the previous step's end (the state the step began from).
+    // Large models have no allowance: each of its evaluations serves one column of thousands.
     const bool cheap = v.has_state() && n_ >= kInterpolatedGridMinN;
+    if (cheap)
+      allowance_ = 0;
+    else
+      allowance_ += kEvaluationsPerStep;
     const bool exact = allowance_ > 0 || !cheap;
     s_.resize(M + 1);
     smp_.resize(M + 1);  // assigned in place: the samples' storage is reused
