@@ -200,7 +200,7 @@ class Monitor {
       const int j = std::abs(code) - 1;
       const double sign = code < 0 ? -1.0 : 1.0;
       for (int m = 0; m <= M; ++m) fg_[m] = sign * grid_value(m, j);
-      refine_max_on_grid(s_.data(), fg_.data(), M, code < 0 ? minima_[j] : maxima_[j]);
+      refine_max_on_grid(s_.data(), fg_.data(), M, code < 0 ? minima_[j] : maxima_[j], true);
     }
   }
 
