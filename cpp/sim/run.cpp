@@ -112,19 +112,19 @@ class Monitor {
   // such evaluations lasts (kInitialEvaluations, plus kEvaluationsPerStep for each step of the
   // window). Past it, the columns still promising are refined together from M+1 values on a
   // finer grid: the quartic through the values around each column's best (refine_max_on_grid).
-  // The allowance covers every stored case (their summaries are those of the exact refinement);
-  // machines with many columns (a chain of 30 links has 273) use the grid. M = 32: on the
-  // 30-link chain (1 s, rtol 1e-8) the extremes so found differ from a run at rtol 1e-12 by at
-  // most 1.4e-6 of their column's range, as the exact refinement's do (M = 16: 2e-5).
+  // Models from kInterpolatedGridMinN coordinates have no allowance (each evaluation would
+  // serve one column of thousands: a chain of 30 links has 273) and go to the grid at once.
+  // M = 32: on the 30-link chain (1 s, rtol 1e-8) the extremes so found differ from a run at
+  // rtol 1e-12 by at most 6.9e-7 of their column's range (M = 16: 2e-5).
   //
   // The grid's values cost no evaluation of the dynamics per grid point (grid_values): q and q̇
   // are the dense output's; q̈, R and the multipliers are the polynomial of degree P through P+1
   // full samples of the step (the K+1 and, for P = 8, the midpoints between them); the derived
   // columns are the model's from those. A step past the allowance costs P full samples (the
   // step's start is the previous step's end), whatever the number of columns. Below
-  // kInterpolatedGridMinN coordinates (where a full sample costs microseconds) the grid is of
-  // full samples, as before issue 23's second part: bricard_a04 (a stored reference) passes
-  // the allowance, and its summary stays bit-identical.
+  // kInterpolatedGridMinN coordinates (where a full sample costs microseconds) the allowance
+  // and the grid of full samples are as before: bricard_a04 (a stored reference) passes the
+  // allowance, and its summary stays bit-identical.
   void window(const mech::StepView& v) {
     const double a = std::max(v.t_prev, w0_), b = v.t;
     if (!(b > a)) return;
