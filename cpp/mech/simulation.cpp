@@ -15,6 +15,20 @@ namespace pcsim::mech {
 
 const Sample& StepView::sample(double s) const { return impl_at_(impl_, s); }
 
+void StepView::state(double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) const {
+  if (impl_state_) return impl_state_(impl_, s, q, qd);
+  const Sample& x = sample(s);
+  q = x.q;
+  qd = x.qd;
+}
+
+void StepView::derived(double s, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                       const Eigen::VectorXd& qdd, const Eigen::VectorXd& R,
+                       const Eigen::VectorXd& lambda, Eigen::VectorXd& out) const {
+  if (impl_derived_) return impl_derived_(impl_, s, q, qd, qdd, R, lambda, out);
+  out = sample(s).derived;
+}
+
 OdeOptions ode_options(const SimulationOptions& options) {
   OdeOptions oo;
   oo.kernel = options.kernel;
@@ -161,6 +175,31 @@ class Run {
   static const Sample& view_at(const void* self, double s) {
     const Run& run = *static_cast<const Run*>(self);
     return const_cast<Run&>(run).sample_in_step(s);
+  }
+
+  static void view_state(const void* self, double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
+    const_cast<Run*>(static_cast<const Run*>(self))->state_in_step(s, q, qd);
+  }
+  static void view_derived(const void* self, double s, const Eigen::VectorXd& q,
+                           const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                           const Eigen::VectorXd& R, const Eigen::VectorXd& lambda,
+                           Eigen::VectorXd& out) {
+    const Run& run = *static_cast<const Run*>(self);
+    run.model_.derived_with_multipliers(s, q, qd, qdd, R, run.set_.rows(), lambda, out);
+  }
+
+  // q and q̇ at s as sample_in_step takes them, without the dynamics.
+  void state_in_step(double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
+    if (step_ == nullptr || s >= step_->t || step_->t == step_->t_prev) s = current_t_;
+    if (s == current_t_) {
+      q = current_q_;
+      qd = current_qd_;
+      return;
+    }
+    state_.resize(ny());
+    step_->dense(std::max(s, step_->t_prev), state_.data());
+    q = state_.head(n_);
+    qd = state_.segment(n_, n_);
   }
 
   // Samples are cached by time within a step: observers often ask for the same instant (the
@@ -449,6 +488,8 @@ class Run {
     view.t = t;
     view.impl_ = this;
     view.impl_at_ = &Run::view_at;
+    view.impl_state_ = &Run::view_state;
+    view.impl_derived_ = &Run::view_derived;
     try {
       return observer(view);
     } catch (const std::exception& ex) {
@@ -501,7 +542,7 @@ class Run {
   int n_, s_;
   ReactionMethod method_;
   bool legacy_;
-  Eigen::VectorXd q_, qd_, a_, Rv_, dense_;
+  Eigen::VectorXd q_, qd_, a_, Rv_, dense_, state_;
   ProjectionWork pw_;
   bool sparse_rows_ = false;       // the rows as sparse values (large models with the structure)
   std::vector<char> holonomic_;    // per active row (sparse_rows_ only)

@@ -79,10 +79,26 @@ class StepView {
   /// The same as at(s), without a copy: the reference stays valid until the next call of
   /// sample() or at() on any view of this run (read it at once; do not keep it).
   const Sample& sample(double s) const;
+  /// Whether state() and derived() are cheaper than sample() (they always work).
+  bool has_state() const { return impl_state_ != nullptr && impl_derived_ != nullptr; }
+  /// q and q̇ at s in [t_prev, t] from the dense output alone, without the dynamics: the same
+  /// values as sample(s).q and .qd (at s == t the accepted state).
+  void state(double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) const;
+  /// The model's derived quantities at (s, q, q̇) for given q̈, R and multipliers (in the run's
+  /// row order): what sample() computes from its own, here from values the caller supplies
+  /// (for example interpolated between samples).
+  void derived(double s, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+               const Eigen::VectorXd& qdd, const Eigen::VectorXd& R, const Eigen::VectorXd& lambda,
+               Eigen::VectorXd& out) const;
 
   // Internal: set by simulate().
   const void* impl_ = nullptr;
   const Sample& (*impl_at_)(const void* impl, double s) = nullptr;
+  void (*impl_state_)(const void* impl, double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) = nullptr;
+  void (*impl_derived_)(const void* impl, double s, const Eigen::VectorXd& q,
+                        const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                        const Eigen::VectorXd& R, const Eigen::VectorXd& lambda,
+                        Eigen::VectorXd& out) = nullptr;
 };
 
 /// Called once at t0 (t_prev == t == t0, the consistent initial state) and after every accepted

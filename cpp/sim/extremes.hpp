@@ -145,7 +145,11 @@ inline bool max_promising(const double* s, const double* f, int K, const Running
 /// above the best sample by no more than the samples vary around it (else, at a kink or where
 /// the quartic does not fit the signal, the best sample stands). The quartic's error is of the
 /// order of d^5 times the signal's fifth derivative: the bounded-cost monitor's refinement.
-inline void refine_max_on_grid(const double* s, const double* f, int M, RunningMax& best) {
+/// ends_over_two: at an end of the grid the fall is measured over the two samples beside it
+/// (accepts a peak anywhere in the end interval; false: the behaviour before issue 23's second
+/// part, which the stored summaries of models under 60 coordinates, bricard_a04's, carry).
+inline void refine_max_on_grid(const double* s, const double* f, int M, RunningMax& best,
+                               bool ends_over_two = false) {
   int i = 0;
   for (int k = 1; k <= M; ++k)
     if (f[k] > f[i]) i = k;
@@ -183,7 +187,13 @@ inline void refine_max_on_grid(const double* s, const double* f, int M, RunningM
     if (std::abs(step) < 1e-12) break;
   }
   const double value = p(u);
-  const double left = i > 0 ? f[i - 1] : f[i + 1], right = i < M ? f[i + 1] : f[i - 1];
+  // How far the samples fall around the best: over its two neighbours; at an end of the grid
+  // (ends_over_two) over the two samples beside it: a peak inside the end interval, at u from
+  // the end, rises a u² above the end sample while the next one falls only a (1 - 2u) below it,
+  // so from u ~ 0.41 the one-neighbour test rejects it (and the end sample stands, short of the
+  // peak by up to a quarter of the curvature term).
+  const int e = ends_over_two ? 2 : 1;
+  const double left = i > 0 ? f[i - 1] : f[i + e], right = i < M ? f[i + 1] : f[i - e];
   const double spread = f[i] - std::min(left, right);
   if (value >= f[i] && value - f[i] <= spread) best.offer(value, s[j0] + u * (s[1] - s[0]));
 }

@@ -18,6 +18,7 @@
 #include "common/files.hpp"
 #include "common/format.hpp"
 #include "common/location.hpp"
+#include "mech/dynamics.hpp"
 #include "mech/projection.hpp"
 #include "mech/simulation.hpp"
 #include "mech/contacts/switching.hpp"
@@ -108,33 +109,52 @@ class Monitor {
   // reading them (issue 23). K+1 samples; each column whose samples promise a new extreme
   // (sim/extremes.hpp) is refined on the dense output by evaluating the dynamics
   // (refine_max_if_promising: each evaluation serves one column) while the run's allowance of
-  // such evaluations lasts: kInitialEvaluations, plus kEvaluationsPerStep for each step of the
-  // window. Past it, the columns still promising are refined together from M+1 samples on a
-  // finer grid (the K+1 among them): the quartic through the samples around each column's best
-  // (refine_max_on_grid). Per step of the window, at most M+1 evaluations plus the allowance,
-  // whatever the number of columns. The allowance covers every stored case (their summaries are
-  // those of the exact refinement); machines with many columns (a chain of 30 links has 273)
-  // use the grid. M = 32: on the 30-link chain (1 s, rtol 1e-8) the extremes so found differ
-  // from a run at rtol 1e-12 by at most 1.4e-6 of their column's range, as the exact refinement's
-  // do (M = 16: 2e-5).
+  // such evaluations lasts (kInitialEvaluations, plus kEvaluationsPerStep for each step of the
+  // window). Past it, the columns still promising are refined together from M+1 values on a
+  // finer grid: the quartic through the values around each column's best (refine_max_on_grid).
+  // Models from kInterpolatedGridMinN coordinates have no allowance (each evaluation would
+  // serve one column of thousands: a chain of 30 links has 273) and go to the grid at once.
+  // M = 32: on the 30-link chain (1 s, rtol 1e-8) the extremes so found differ from a run at
+  // rtol 1e-12 by at most 6.9e-7 of their column's range (M = 16: 2e-5).
+  //
+  // The grid's values cost no evaluation of the dynamics per grid point (grid_values): q and q̇
+  // are the dense output's; q̈, R and the multipliers are the polynomial of degree P through P+1
+  // full samples of the step (the K+1 and, for P = 8, the midpoints between them); the derived
+  // columns are the model's from those. A step past the allowance costs P full samples (the
+  // step's start is the previous step's end), whatever the number of columns. Below
+  // kInterpolatedGridMinN coordinates (where a full sample costs microseconds) the allowance
+  // and the grid of full samples are as before: bricard_a04 (a stored reference) passes the
+  // allowance, and its summary stays bit-identical.
   void window(const mech::StepView& v) {
     const double a = std::max(v.t_prev, w0_), b = v.t;
     if (!(b > a)) return;
-    constexpr int K = 4, M = 32, R = M / K;
+    constexpr int K = 4, R = M / K;
     // Refinement iterations: a smooth extremum converges in 3-4 parabolic steps and stops on
     // its bracket; a kink (the minimum of |R_s|/R_u where R_s changes sign) converges only
     // linearly, by the bracket halvings of refine_max, and needs up to ~20 for 1e-6 of a step.
     constexpr int kIter = 24;
     // ... and stops earlier once the value has converged to a few units of rounding.
     constexpr double kValueRtol = 1e-14;
-    allowance_ += kEvaluationsPerStep;
+    // The exact refinement (allowance left at the step's start) takes its samples as it always
+    // has; past it, the step's start is the previous step's end (the state the step began from).
+    // Large models have no allowance: each of its evaluations serves one column of thousands.
+    const bool cheap = v.has_state() && n_ >= kInterpolatedGridMinN;
+    if (cheap)
+      allowance_ = 0;
+    else
+      allowance_ += kEvaluationsPerStep;
+    const bool exact = allowance_ > 0 || !cheap;
     s_.resize(M + 1);
     smp_.resize(M + 1);  // assigned in place: the samples' storage is reused
-    auto at = [&](int j) { return j == M ? b : a + (b - a) * j / M; };
     for (int k = 0; k <= K; ++k) {
-      s_[k * R] = at(k * R);
-      smp_[k * R] = v.sample(s_[k * R]);
+      s_[k * R] = at(a, b, k * R);
+      if (k == 0 && !exact && have_end_ && end_.t == a)
+        smp_[0] = end_;
+      else
+        smp_[k * R] = v.sample(s_[k * R]);
     }
+    end_ = smp_[M];
+    have_end_ = true;
     std::vector<double>& sc = sc_;
     sc.resize(K + 1);
     f_.resize(K + 1);
@@ -159,25 +179,107 @@ class Monitor {
       }
     }
     if (grid_.empty()) return;
-    for (int m = 0; m <= M; ++m) {
-      if (m % R == 0) continue;
-      s_[m] = at(m);
-      smp_[m] = v.sample(s_[m]);
+    if (!cheap) {  // full samples on the grid
+      for (int m = 0; m <= M; ++m) {
+        if (m % R == 0) continue;
+        s_[m] = at(a, b, m);
+        smp_[m] = v.sample(s_[m]);
+      }
+      fg_.resize(M + 1);
+      for (int code : grid_) {
+        const int j = std::abs(code) - 1;
+        const double sign = code < 0 ? -1.0 : 1.0;
+        for (int m = 0; m <= M; ++m) fg_[m] = sign * value(smp_[m], j);
+        refine_max_on_grid(s_.data(), fg_.data(), M, code < 0 ? minima_[j] : maxima_[j]);
+      }
+      return;
     }
+    grid_values(v, a, b);
     fg_.resize(M + 1);
     for (int code : grid_) {
       const int j = std::abs(code) - 1;
       const double sign = code < 0 ? -1.0 : 1.0;
-      for (int m = 0; m <= M; ++m) fg_[m] = sign * value(smp_[m], j);
-      refine_max_on_grid(s_.data(), fg_.data(), M, code < 0 ? minima_[j] : maxima_[j]);
+      for (int m = 0; m <= M; ++m) fg_[m] = sign * grid_value(m, j);
+      refine_max_on_grid(s_.data(), fg_.data(), M, code < 0 ? minima_[j] : maxima_[j], true);
     }
   }
+
+  static constexpr int M = 32;
+  /// From this many coordinates the grid past the allowance is interpolated (see window()):
+  /// the engine's own threshold for its sparse path, under which every stored case runs.
+  static constexpr int kInterpolatedGridMinN = mech::Dynamics::kSparseMinN;
+  /// The degree of the polynomial in time through the full samples that gives q̈, R and the
+  /// multipliers on the grid (P + 1 samples per step, equispaced, M a multiple of P).
+  static constexpr int P = 8, kNodeStride = M / P;
+
+  static double at(double a, double b, int m) { return m == M ? b : a + (b - a) * m / M; }
+
+  // Lagrange's weights of the P+1 equispaced nodes at grid point m (row m, P+1 entries).
+  static const std::vector<double>& lagrange() {
+    static const std::vector<double> w = [] {
+      std::vector<double> out(static_cast<std::size_t>((M + 1) * (P + 1)));
+      for (int m = 0; m <= M; ++m) {
+        const double u = static_cast<double>(m) / kNodeStride;
+        for (int k = 0; k <= P; ++k) {
+          double l = 1.0;
+          for (int i = 0; i <= P; ++i)
+            if (i != k) l *= (u - i) / (k - i);
+          out[static_cast<std::size_t>(m * (P + 1) + k)] = l;
+        }
+      }
+      return out;
+    }();
+    return w;
+  }
+
+  // The grid's values for the columns in grid_ (see window()): s_, smp_ at the nodes (full
+  // samples), the dense output's q and q̇ elsewhere, q̈, R, λ interpolated where a column of R or
+  // a derived column needs them.
+  void grid_values(const mech::StepView& v, double a, double b) {
+    bool need_dynamics = false, need_derived = false;
+    for (int code : grid_) {
+      const int j = std::abs(code) - 1;
+      need_dynamics = need_dynamics || j >= 2 * n_;
+      need_derived = need_derived || j >= 3 * n_;
+    }
+    const std::vector<double>& L = lagrange();
+    constexpr int R = M / 4;
+    for (int m = 0; m <= M; ++m) {  // the nodes first: the others interpolate them
+      if (m % R == 0) continue;
+      s_[m] = at(a, b, m);
+      if (need_dynamics && m % kNodeStride == 0) smp_[m] = v.sample(s_[m]);
+    }
+    for (int m = 0; m <= M; ++m) {
+      if (m % R == 0 || (need_dynamics && m % kNodeStride == 0)) continue;
+      mech::Sample& g = smp_[m];
+      g.t = s_[m];
+      v.state(s_[m], g.q, g.qd);
+      if (!need_dynamics) continue;
+      const double* w = &L[static_cast<std::size_t>(m * (P + 1))];
+      auto interpolate = [&](Eigen::VectorXd mech::Sample::*field) {
+        Eigen::VectorXd& out = g.*field;
+        out = w[0] * (smp_[0].*field);
+        for (int k = 1; k <= P; ++k) out += w[k] * (smp_[k * kNodeStride].*field);
+      };
+      // Only what the columns read: R for R columns; q̈, R, λ and the model's derived
+      // quantities from them for derived columns.
+      interpolate(&mech::Sample::R);
+      if (need_derived) {
+        interpolate(&mech::Sample::qdd);
+        interpolate(&mech::Sample::lambda);
+        v.derived(s_[m], g.q, g.qd, g.qdd, g.R, g.lambda, g.derived);
+      }
+    }
+  }
+  double grid_value(int m, int j) const { return value(smp_[m], j); }
 
   // The window's allowance of evaluations for the exact refinement (see window()).
   static constexpr long kInitialEvaluations = 1000, kEvaluationsPerStep = 16;
   long allowance_ = kInitialEvaluations;
   std::vector<int> grid_;
   std::vector<double> sc_, fg_;
+  mech::Sample end_;  // the previous window step's end (past the allowance: the next start)
+  bool have_end_ = false;
 
   void add_row(const mech::Sample& s) {
     row_[0] = s.t;

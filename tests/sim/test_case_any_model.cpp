@@ -21,6 +21,8 @@
 #include "sim/case.hpp"
 #include "sim/run.hpp"
 
+#include "../modelfile/chain_model.hpp"
+
 using namespace pcsim;
 using namespace pcsim::sim;
 namespace fs = std::filesystem;
@@ -292,4 +294,58 @@ BOOST_AUTO_TEST_CASE(initial_angular_velocity_conflicts_are_refused_naming_the_k
   BOOST_TEST(has(c, "bad.toml: key 'initial.b_e0'"), c);
   BOOST_TEST(has(c, "not all 0"), c);
   BOOST_TEST(error_of([&] { load_case_text(model + "[initial]\nb_e0 = 1.0\nb_wy = 2.0\n", "good.toml"); }).empty());
+}
+
+// Issue 23: the summary monitor of a large model (n >= 60: no exact-refinement allowance, the
+// 33-point grid from the dense output, with q̈, R and the multipliers interpolated through 9
+// full samples per step and the derived columns from them) against an independent oracle: the
+// time-series rows, each a full evaluation of the dynamics at its own time, 1e-4 s apart. Every
+// column's window maximum and minimum must reach the rows' (the monitor misses no sampled
+// extreme) and exceed them by no more than a peak between rows can (an eighth of the rows'
+// largest second difference, with a margin of 1.5 for its estimate, plus rounding): an error
+// of the interpolation or of the grid's quartic larger than that fails. The 20-link chain
+// (60 coordinates, 181 columns) released at 0.5 rad, 0.05 s at rtol 1e-10.
+BOOST_AUTO_TEST_CASE(large_model_extremes_agree_with_rows_of_full_samples) {
+  TempDir d;
+  const int N = 20;
+  d.write("chain.toml", pcsim::modelfile::testing::pendulum_chain_toml(N));
+  std::ostringstream cs;
+  cs.precision(17);
+  cs << "model = \"chain.toml\"\n[initial]\n";
+  const double a = 0.5, h = 0.05;
+  for (int i = 1; i <= N; ++i)
+    cs << "x" << i << " = " << (2 * i - 1) * h * std::sin(a) << "\ny" << i << " = "
+       << -(2 * i - 1) * h * std::cos(a) << "\nth" << i << " = " << a << "\n";
+  cs << "[solver]\nt_end = 0.05\nrtol = 1.0e-10\natol = 1.0e-12\n[output]\ndt = 1.0e-4\n";
+  const Case c = load_case(d.write("case.toml", cs.str()));
+  Kept kept;
+  RunOptions o;
+  o.keep = &kept;
+  const RunResult r = run_case(c, o);
+  const std::vector<std::string> names = timeseries_columns(c);
+  const std::size_t width = names.size();  // t, the columns, the two residuals
+  const std::size_t rows = kept.rows.size() / width;
+  BOOST_REQUIRE(rows == 501);
+  int checked = 0;
+  for (std::size_t j = 1; j + 2 < width; ++j) {
+    double hi = -INFINITY, lo = INFINITY, d2 = 0, scale = 0;
+    for (std::size_t k = 0; k < rows; ++k) {
+      const double v = kept.rows[k * width + j];
+      hi = std::max(hi, v);
+      lo = std::min(lo, v);
+      scale = std::max(scale, std::abs(v));
+      if (k > 0 && k + 1 < rows)
+        d2 = std::max(d2, std::abs(kept.rows[(k + 1) * width + j] - 2 * v + kept.rows[(k - 1) * width + j]));
+    }
+    const ColumnExtremes& e = r.extreme(names[j]);
+    const double slack = 1.5 * d2 / 8 + 1e-12 * scale + 1e-300;
+    BOOST_TEST_CONTEXT(names[j]) {
+      BOOST_TEST(e.max >= hi - 1e-13 * scale);
+      BOOST_TEST(e.max <= hi + slack);
+      BOOST_TEST(e.min <= lo + 1e-13 * scale);
+      BOOST_TEST(e.min >= lo - slack);
+    }
+    ++checked;
+  }
+  BOOST_TEST(checked == 3 * 3 * N + 1);  // q, q', R of 60 coordinates and the energy
 }
