@@ -305,6 +305,12 @@ BOOST_AUTO_TEST_CASE(upright_coin_on_a_frictionless_wheel_joint_bounces_as_the_g
       BOOST_TEST(std::abs(b.qd_end[at("coin_x")] - vx) < 1e-10);
       BOOST_TEST(std::abs(b.q_end[at("coin_x")] - (off + 0.5 + vx * T)) < 1e-9 * (1 + off));
       BOOST_TEST(std::abs(b.q_end[at("coin_y")] + off) < 1e-9 * (1 + off));
+      // Energy: the impacts' losses (events.csv's energy_lost) are the drop of m g z + m z_d^2 / 2
+      // (the horizontal motion and the spin keep their kinetic energy).
+      double lost = 0.0;
+      for (const auto& ev : b.events) lost += ev.energy_lost;
+      const double dE = m * kG * (b.q_end[at("coin_z")] - q0[at("coin_z")]) + 0.5 * m * std::pow(b.qd_end[at("coin_z")], 2);
+      BOOST_TEST(std::abs(lost + dE) < 1e-9 * m * kG * kH, "lost " << lost << " J, energy change " << dE << " J");
       const double C = std::cos(spin * T / 2), S = std::sin(spin * T / 2);
       const double ex[4] = {c45 * C, c45 * C, -c45 * S, c45 * S};
       const char* en[4] = {"coin_e0", "coin_e1", "coin_e2", "coin_e3"};
