@@ -412,18 +412,33 @@ class SpatialDistance : public JointType {
 // centre is r σ above the plane, σ = |w1 × a|), <joint>_x and <joint>_y (velocity form: the
 // material point of the wheel at the contact has zero velocity along u1, v1 relative to the
 // plane's body). The contact point is C + ρ, ρ = −r (w1 − (w1·a) a)/σ.
+// `no_slip = false` keeps the row n only: a frictionless thin disk on the plane (it slides and
+// spins freely; its contact force is normal, acting at the contact point).
+// Contact (issue 12, bodies_contact.cpp): `unilateral` and `restitution` on the row n of a
+// frictionless wheel (no_slip = false): a disk that lifts off, flies and lands. On a rolling wheel
+// they are refused: its no-slip rows x, y must be released in flight and in slip, i.e. be the
+// friction rows of its contact, two of them (a 2-D Coulomb cone), and the switching engine
+// carries one friction row per contact (docs/switching.md); so is `mu_static` on any wheel.
 class SpatialWheel : public JointType {
  public:
   std::string name() const override { return "wheel"; }
   std::vector<std::string> extra_keys() const override {
-    std::vector<std::string> k{"radius"};
+    std::vector<std::string> k{"radius", "no_slip"};
     for (const auto& c : contact_keys()) k.push_back(c);
     return k;
   }
   void rows(Expander& x, Joint& j) const override {
-    refuse_contact_keys(x, j, "no contact attributes on a wheel yet: its no-slip rows x, y would both be "
-                              "friction rows of one contact, and the switching engine's friction is "
-                              "planar (one row per contact; docs/bodies-spatial.md \"Limits\")");
+    bool no_slip = true;
+    if (const toml::node* ns = j.table->get("no_slip")) no_slip = x.boolean(*ns, j.key + ".no_slip");
+    if (no_slip)
+      for (const char* k : {"unilateral", "restitution"})
+        if (j.table->get(k))
+          x.fail(j.key + "." + k,
+                 "no " + std::string(k) + " on a rolling wheel (no_slip = true, the default): its no-slip "
+                 "rows x, y would have to be released in flight and in slip, i.e. be the friction rows "
+                 "of its contact, two of them (a 2-D Coulomb cone), and the switching engine carries "
+                 "one friction row per contact (docs/switching.md); no_slip = false makes the wheel a "
+                 "frictionless disk on the plane, which takes unilateral and restitution");
     const Frames f = frames(x, j);
     const Expr r = x.required(*j.table, j.key, "radius", "the wheel's radius (an expression)");
     const Vec3 n = column(f.E1, 2), a = column(f.E2, 2);
@@ -439,14 +454,25 @@ class SpatialWheel : public JointType {
     Row rn;
     rn.name = pre + "n";
     rn.holonomic = sub(dot(n, f.d), mul(r, sigma));
+    if (has_contact_keys(j))
+      read_joint_contact(x, j, rn, nullptr,
+                         "no friction on a wheel: a spatial contact slips in the plane, so Coulomb's "
+                         "law needs two friction rows at one contact (a 2-D cone), and the switching "
+                         "engine carries one friction row per contact (docs/switching.md); a planar "
+                         "model's rolling joint takes mu_static");
     j.rows.push_back(rn);
+    Vec3 F = scale(lam(rn), n);
+    if (!no_slip) {
+      // The normal force acts at the contact point: its moment about the centre is ρ × F.
+      set_reaction(j, f, F, cross(rho, F));
+      return;
+    }
     const Vec3 P = add(f.P2, rho);
     LinVec3 vrel = x.point_velocity(*f.b2, P);
     if (!f.b1->ground) {
       const LinVec3 v1 = x.point_velocity(*f.b1, P);
       for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
     }
-    Vec3 F = scale(lam(rn), n);
     for (int i = 0; i < 2; ++i) {
       Row rt;
       rt.name = pre + std::string(i == 0 ? "x" : "y");

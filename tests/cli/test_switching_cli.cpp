@@ -171,3 +171,51 @@ BOOST_AUTO_TEST_CASE(event_budget_message_counts_in_the_right_number) {
   BOOST_TEST_INFO(two.out);
   BOOST_TEST(two.out.find("3 events, more than contact.max_events = 2 events;") != std::string::npos);
 }
+
+// Issue 22 (WHL): the coin on the vibrating plane (a frictionless spatial `wheel`, unilateral)
+// from the shell: it lifts off at sin(omega t) = g / (A omega^2) and lands at the closed-form
+// instant (models/contact/coin_bodies.toml; the numbers are the tests' in
+// tests/mech/contacts/test_switching_vibrating_table.cpp). The contact keys a spatial wheel does
+// not take are refused with exit 2, naming the model file and the key, nothing written.
+BOOST_AUTO_TEST_CASE(coin_on_a_wheel_joint_hops_and_wheel_contact_keys_that_do_not_apply_exit_2) {
+  TempDir dir("switching_cli");
+  const fs::path out = dir.path / "coin";
+  const Result r = pcsim("run cases/coin_vibrating_plane.toml --set solver.t_end=0.06 --out '" + out.string() + "'");
+  BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
+  std::istringstream ev(read(out / "events.csv"));
+  std::string line;
+  std::getline(ev, line);
+  std::vector<std::pair<std::string, double>> events;
+  while (std::getline(ev, line)) {
+    const auto c1 = line.find(','), c2 = line.find(',', c1 + 1);
+    events.emplace_back(line.substr(c1 + 1, c2 - c1 - 1), std::stod(line.substr(0, c1)));
+  }
+  BOOST_REQUIRE(events.size() >= 2u);
+  BOOST_TEST(events[0].first == "lift_off");
+  BOOST_TEST(std::abs(events[0].second - std::asin(9.81 / (0.002 * 100.0 * 100.0)) / 100.0) < 1e-9);
+  BOOST_TEST(events[1].first == "impact");
+  BOOST_TEST(std::abs(events[1].second - 0.0523657781873) < 1e-9);
+  // The model with its wheel rolling (no_slip left at its default), or with friction.
+  std::string model = read(fs::path(PCSIM_SOURCE_DIR) / "models/contact/coin_bodies.toml");
+  const std::string ns = "\nno_slip = false";  // the key's line, not the header's mention
+  const auto at = model.find(ns);
+  BOOST_REQUIRE(at != std::string::npos);
+  struct Bad {
+    std::string replacement, key, why;
+  };
+  for (const Bad& b : {Bad{"\n", "model.joint.bounce.unilateral", "one friction row per contact"},
+                       Bad{ns + "\nmu_static = 0.3", "model.joint.bounce.mu_static", "two friction rows"}}) {
+    BOOST_TEST_CONTEXT(b.key) {
+      std::string text = model;
+      text.replace(at, ns.size(), b.replacement);
+      const fs::path mf = dir.path / "coin_bad.toml", cf = dir.path / "coin_bad_case.toml", o = dir.path / "bad";
+      write_file(mf, text);
+      write_file(cf, "model = \"coin_bad.toml\"\n[initial]\ncoin_e0 = 1\ncoin_z = 0.1\n[contact]\nswitching = true\n");
+      const Result e = pcsim("run '" + cf.string() + "' --out '" + o.string() + "'");
+      BOOST_TEST(e.status == 2, e.out);
+      BOOST_TEST(e.out.find("coin_bad.toml: key '" + b.key + "'") != std::string::npos, e.out);
+      BOOST_TEST(e.out.find(b.why) != std::string::npos, e.out);
+      BOOST_TEST(!fs::exists(o));
+    }
+  }
+}

@@ -136,7 +136,13 @@ BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_a
        Eigen::Vector3d(0.2 * std::sin(0.5), 0.2 * std::cos(0.5), 0.0), Eigen::Vector3d(0.0, 0.0, -10.0)},
       {"contact/bouncing_ball_bodies.toml",
        {"name = \"floor\"\nholonomic = \"ball_y - Y0\"\nunilateral = true\nrestitution = \"e_n\"\n"},
-       Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(0.1, 0.0)}};
+       Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(0.1, 0.0)},
+      // The frictionless spatial wheel (issue 22): an upright coin dropped 1.5 m, spinning at
+      // 20 rad/s (impacts until 1.5 s, before its accumulation at 1.66 s).
+      {"contact/coin_bodies.toml",
+       {"name = \"bounce_n\"\nholonomic = \"coin_z - Z0 - r*bounce_sigma\"\nunilateral = true\nrestitution = \"e_n\"\n"},
+       (Eigen::VectorXd(7) << 0.0, 0.0, 1.512, std::sqrt(0.5), std::sqrt(0.5), 0.0, 0.0).finished(),
+       (Eigen::VectorXd(7) << 0.1, 0.0, 0.0, 0.0, 0.0, -10 * std::sqrt(0.5), 10 * std::sqrt(0.5)).finished()}};
   for (const Case& c : cases) {
     BOOST_TEST_CONTEXT(c.file) {
       const auto src = detail::load_model_source(model_path(c.file));

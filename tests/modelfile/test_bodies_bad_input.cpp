@@ -198,7 +198,20 @@ BOOST_AUTO_TEST_CASE(restitution_or_friction_without_a_unilateral_gap_row_is_ref
                {"model.joint.p.mu_static", "no friction on a point_on_plane", "one row per contact"});
   expect_error(kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nradius = 0.3\n"
                           "unilateral = true\n",
-               {"model.joint.w.unilateral", "wheel", "one row per contact"});
+               {"model.joint.w.unilateral", "rolling wheel", "one friction row per contact", "no_slip = false"});
+  // Issue 22 (WHL): a wheel's contact keys, each refused by name with the reason.
+  const std::string wheel = kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nradius = 0.3\n";
+  expect_error(wheel + "restitution = 0.5\n", {"m.toml", "model.joint.w.restitution", "rolling wheel", "2-D Coulomb cone"});
+  expect_error(wheel + "no_slip = false\nunilateral = true\nmu_static = 0.3\n",
+               {"m.toml", "model.joint.w.mu_static", "no friction on a wheel", "two friction rows", "one friction row per contact"});
+  expect_error(wheel + "no_slip = false\nunilateral = true\nmu_static = 0.3\nmu_kinetic = 0.2\n",
+               {"model.joint.w.mu_static", "no friction on a wheel"});
+  expect_error(wheel + "no_slip = false\nrestitution = 0.5\n", {"model.joint.w.restitution", "only with unilateral = true"});
+  expect_error(wheel + "no_slip = false\nunilateral = true\nrestitution = 2\n", {"model.joint.w.restitution", "[0, 1]"});
+  expect_error(wheel + "no_slip = \"no\"\n", {"model.joint.w.no_slip"});
+  // A frictionless wheel (no_slip = false) takes unilateral and restitution.
+  BOOST_CHECK_EQUAL(error_of(wheel + "no_slip = false\nunilateral = true\nrestitution = 0.5\n"), "");
+  BOOST_CHECK_EQUAL(error_of(wheel + "no_slip = false\n"), "");
 }
 
 BOOST_AUTO_TEST_CASE(coefficients_outside_their_ranges_are_refused_at_the_defaults) {

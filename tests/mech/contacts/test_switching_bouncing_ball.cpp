@@ -242,3 +242,80 @@ g = [0, 0, "-g"]
   BOOST_TEST(std::abs(b.q_end[at("ball_z")] - r0) < 1e-12);
   BOOST_TEST(!events_of(b, ContactEventKind::accumulation).empty());
 }
+
+// Issue 22 (WHL): an upright coin (models/contact/coin_bodies.toml, a frictionless spatial
+// `wheel`, no_slip = false, unilateral with e_n) dropped from H while sliding sideways and
+// spinning about its axis. Upright, the contact point is straight below the centre, so the
+// normal impulses have no moment about it and the gap's gradient has no Euler-parameter part
+// (sigma = |w1 x a| is at its maximum 1): the centre's height follows the ball's geometric
+// series (impacts at the closed-form times, rebounds e^k v1, impulses m (1 + e) e^(k-1) v1,
+// apexes e^(2k) H), the horizontal velocity and the spin are untouched, and the Euler
+// parameters at the end are the closed form e0 (x) (cos(s t/2), 0, 0, sin(s t/2)). The same at
+// the plane's origin and 1000 m away from it on every axis (the gap's rounding there,
+// 100 eps 1000 = 2e-11 m, moves an event by < 1e-11 s).
+BOOST_AUTO_TEST_CASE(upright_coin_on_a_frictionless_wheel_joint_bounces_as_the_geometric_series) {
+  const double e = 0.7, m = 0.01, r = 0.012, vx = 0.3, spin = 20.0, T = 2.4;
+  const double c45 = std::sqrt(0.5);
+  for (double off : {0.0, 1000.0}) {
+    BOOST_TEST_CONTEXT("plane at (" << off << ", " << -off << ", " << off << ")") {
+      const auto d = modelfile::load_model_file(std::string(PCSIM_SOURCE_DIR) + "/models/contact/coin_bodies.toml");
+      const auto& names = d->coordinates();
+      auto at = [&](const std::string& n) {
+        for (std::size_t i = 0; i < names.size(); ++i)
+          if (names[i] == n) return static_cast<Eigen::Index>(i);
+        BOOST_FAIL("no coordinate " + n);
+        return Eigen::Index(0);
+      };
+      Eigen::VectorXd q0 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(names.size())), qd0 = q0;
+      q0[at("coin_x")] = off + 0.5;
+      q0[at("coin_y")] = -off;
+      q0[at("coin_z")] = off + r + kH;
+      q0[at("coin_e0")] = c45;
+      q0[at("coin_e1")] = c45;  // upright: the axis along ground -y
+      qd0[at("coin_x")] = vx;
+      qd0[at("coin_e2")] = -0.5 * c45 * spin;  // e_dot = e (x) (0, 0, 0, spin) / 2
+      qd0[at("coin_e3")] = 0.5 * c45 * spin;
+      const std::map<std::string, double> p{{"e_n", e}, {"m", m}, {"r", r}, {"X0", off}, {"Y0", -off}, {"Z0", off}};
+      auto model = d->instantiate(p, q0, 0.0);
+      SimulationOptions o;
+      o.rtol = o.atol = 1e-10;
+      SwitchingOptions sw;
+      sw.zeno_time = 1e-9;
+      const auto b = run(*model, q0, qd0, T, o, sw);
+      BOOST_REQUIRE_MESSAGE(b.status == SimulationStatus::success, b.message);
+      const double t1 = std::sqrt(2 * kH / kG), v1 = kG * t1;
+      const auto impacts = events_of(b, ContactEventKind::impact);
+      BOOST_REQUIRE(impacts.size() >= 8u);
+      double t_exact = t1, v = v1;
+      for (std::size_t i = 0; i < 8; ++i) {
+        BOOST_TEST(std::abs(impacts[i].t - t_exact) < 1e-9 * t_exact, "impact " << i << " at " << impacts[i].t << " exact " << t_exact);
+        BOOST_TEST(std::abs(impacts[i].vn_after - e * v) < 1e-8 * v1);
+        BOOST_TEST(std::abs(impacts[i].normal - m * (1 + e) * v) < 1e-8 * m * v1);
+        t_exact += 2 * e * v / kG;
+        v *= e;
+      }
+      BOOST_TEST(events_of(b, ContactEventKind::lift_off).empty());  // rebounds only
+      const auto& fl = b.contacts.at(0).flights;
+      BOOST_REQUIRE(fl.size() >= 8u);
+      double apex = kH;
+      for (std::size_t i = 1; i < 8; ++i) {
+        apex *= e * e;
+        BOOST_TEST(std::abs(fl[i].max_gap - apex) < 1e-8 * kH, "flight " << i << " apex " << fl[i].max_gap << " exact " << apex);
+      }
+      BOOST_TEST(std::abs(b.qd_end[at("coin_x")] - vx) < 1e-10);
+      BOOST_TEST(std::abs(b.q_end[at("coin_x")] - (off + 0.5 + vx * T)) < 1e-9 * (1 + off));
+      BOOST_TEST(std::abs(b.q_end[at("coin_y")] + off) < 1e-9 * (1 + off));
+      // Energy: the impacts' losses (events.csv's energy_lost) are the drop of m g z + m z_d^2 / 2
+      // (the horizontal motion and the spin keep their kinetic energy).
+      double lost = 0.0;
+      for (const auto& ev : b.events) lost += ev.energy_lost;
+      const double dE = m * kG * (b.q_end[at("coin_z")] - q0[at("coin_z")]) + 0.5 * m * std::pow(b.qd_end[at("coin_z")], 2);
+      BOOST_TEST(std::abs(lost + dE) < 1e-9 * m * kG * kH, "lost " << lost << " J, energy change " << dE << " J");
+      const double C = std::cos(spin * T / 2), S = std::sin(spin * T / 2);
+      const double ex[4] = {c45 * C, c45 * C, -c45 * S, c45 * S};
+      const char* en[4] = {"coin_e0", "coin_e1", "coin_e2", "coin_e3"};
+      for (int k = 0; k < 4; ++k)
+        BOOST_TEST(std::abs(b.q_end[at(en[k])] - ex[k]) < 1e-8, en[k] << " " << b.q_end[at(en[k])] << " exact " << ex[k]);
+    }
+  }
+}
