@@ -28,9 +28,6 @@ function(pcsim_component)
     "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/cpp>" "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/bridge>"
     "$<BUILD_INTERFACE:${CMAKE_BINARY_DIR}/mod/${C_NAME}>" "$<INSTALL_INTERFACE:include/pcsim>")
   target_link_libraries(pcsim_${C_NAME} PUBLIC ${C_LINKS})
-  if(PCSIM_DEBUG_OPTIMIZE STREQUAL "1" AND C_NAME IN_LIST PCSIM_DEBUG_O1_COMPONENTS)
-    target_compile_options(pcsim_${C_NAME} PRIVATE "${PCSIM_DEBUG_O1_FLAG}")
-  endif()
 endfunction()
 
 # pcsim_application(NAME name LINKS targets... [LIBRARIES more...])
