@@ -99,6 +99,10 @@ ModelIssue Dynamics::evaluate(const ActiveSet& active, double t, const Eigen::Ve
   active_ = &active;
   resize_for(active.size());
   t_ = t;
+  if (limit_on_) {
+    lq_ = q;
+    lqd_ = qd;
+  }
   // Large models with sparse structure: M and g as sparse values only (no n x n work); the
   // dense M and g are filled from them only where a dense path needs them (densify()).
   sparse_eval_ = sparse_evaluation && n_ >= sparse_min_n && model_->has_sparse_structure();
@@ -576,7 +580,10 @@ ModelIssue Dynamics::solve_rank_revealing() {
     // minimum-norm split leaves it out.
     lcoef[i] = den > 0.0 && si > kRankTol * smax ? s2 * c[i] / den : 0.0;  // φ_i c_i / σ_i²
   }
-  const Eigen::VectorXd y = svd.matrixU() * ycoef;
+  tmp_.resize(0);  // the share in the limit basis, if add_vanishing_limit sets it
+  if (limit_on_) add_vanishing_limit(svd.matrixU(), svd.matrixV(), sv, scale, ycoef, lcoef);
+  Eigen::VectorXd y = svd.matrixU() * ycoef;
+  if (tmp_.size() == n_) y += tmp_;
   lambda = scale.asDiagonal() * (svd.matrixV() * lcoef);
   R = L * y;
   qdd = a0_ + L.transpose().solve(y);
@@ -686,7 +693,14 @@ ModelIssue Dynamics::solve(ReactionMethod method) {
   if (method != ReactionMethod::compatibility_structured) densify();
   switch (method) {
     case ReactionMethod::compatibility_structured:
-      return solve_compatibility_structured();  // λ first, then R
+      e = solve_compatibility_structured();  // λ first, then R
+      // With the vanishing limit on, near a singular position the rank-revealing solve takes
+      // over from sin θ < 0.1 (kLimitSwitch), so its blend starts where the structured solve
+      // still holds (the two agree to 1e-16 relative there).
+      if (limit_on_ && e == ModelIssue::none && !rank_revealing && s_ > 0 &&
+          min_pivot_ratio() < limit_switch_)
+        return solve_rank_revealing();
+      return e;
     case ReactionMethod::compatibility:
       e = solve_compatibility();
       // The paper's [G; Dᵀ] needs D of dimension n − s; with dependent rows (Huang's rank < s)
@@ -794,6 +808,127 @@ double Dynamics::velocity_residual(const Eigen::VectorXd& qd) const {
   if (s_ == 0) return 0.0;
   if (dense_stale_) return (rows_sp_.matrix() * qd + g0).cwiseAbs().maxCoeff();
   return (g * qd + g0).cwiseAbs().maxCoeff();
+}
+
+}  // namespace pcsim::mech
+
+namespace pcsim::mech {
+
+void Dynamics::add_vanishing_limit(const Eigen::MatrixXd& U, const Eigen::MatrixXd& V,
+                                   const Eigen::VectorXd& sv, const Eigen::VectorXd& scale,
+                                   Eigen::VectorXd& ycoef, Eigen::VectorXd& lcoef) {
+  const int ns = static_cast<int>(sv.size());
+  if (ns == 0 || !(sv[0] > 0.0) || lq_.size() != n_) return;
+  const double smax = sv[0], nu = kLimitWidth * smax;
+  const double outer = kLimitOuter * nu, inner = kLimitInner * nu;
+  // The vanishing directions: below the band's outer edge, less the persistent ones (the last
+  // persistent_nullity_ singular values, the rows dependent from the start).
+  const int last = ns - std::min(persistent_nullity_, ns);
+  std::vector<int> K;
+  for (int i = 0; i < last; ++i)
+    if (sv[i] < outer) K.push_back(i);
+  const int m = static_cast<int>(K.size());
+  if (m == 0) return;
+  ++limit_solves;
+  const auto L = llt_.matrixL();
+  // y⊥ (the other directions' shares, as solved) and q̈⊥ = a0 + L⁻ᵀ y⊥; W = L⁻ᵀ U_K.
+  Eigen::VectorXd yperp = Eigen::VectorXd::Zero(n_);
+  for (int i = 0; i < ns; ++i)
+    if (std::find(K.begin(), K.end(), i) == K.end()) yperp += ycoef[i] * U.col(i);
+  const Eigen::VectorXd qdd_perp = a0_ + L.transpose().solve(yperp);
+  Eigen::MatrixXd UK(n_, m), VK(s_, m);
+  for (int k = 0; k < m; ++k) {
+    UK.col(k) = U.col(K[k]);
+    VK.col(k) = V.col(K[k]);
+  }
+  // ġ and γ̇ along the motion (1, q̇, q̈⊥) by central differences. The step in time: the state
+  // moves by 1e-5 of its scale (truncation ~1e-10 relative, rounding ~1e-11).
+  const double qs = 1.0 + lq_.cwiseAbs().maxCoeff(), vs = 1.0 + lqd_.cwiseAbs().maxCoeff();
+  const double rate = std::max({lqd_.cwiseAbs().maxCoeff() / qs, qdd_perp.cwiseAbs().maxCoeff() / vs, 1e-3});
+  const double dt = 1e-5 / rate;
+  lgp_.resize(s_, n_);
+  lgm_.resize(s_, n_);
+  lg0_.resize(s_);
+  lgamp_.resize(s_);
+  lgamm_.resize(s_);
+  const std::vector<int>& rows = active_->rows();
+  model_->constraint_rows(rows, t_ + dt, lq_ + dt * lqd_, lqd_ + dt * qdd_perp, lgp_, lg0_, lgamp_);
+  model_->constraint_rows(rows, t_ - dt, lq_ - dt * lqd_, lqd_ - dt * qdd_perp, lgm_, lg0_, lgamm_);
+  const Eigen::MatrixXd gdot = (lgp_ - lgm_) / (2.0 * dt);
+  const Eigen::VectorXd gamdot = (lgamp_ - lgamm_) / (2.0 * dt);
+  // The directions u_k of the share. Where the vanishing σ_k are clear of rounding they are the
+  // SVD's. At the singular position itself (σ_k at rounding level) the SVD's u_k are any
+  // vectors orthogonal to the range of B0ᵀ, a space that also holds the mechanism's free motion
+  // (Lᵀq̇: no ideal reaction acts along it); their limit is the span of P Ḃᵀ V_K with P the
+  // projector off the kept directions (differentiate Bᵀ v_k = σ_k u_k: P Ḃᵀ v_k = σ̇_k u_k; of
+  // Ḃ = (S g L⁻ᵀ)˙ only S ġ L⁻ᵀ survives P and V_K), orthonormalized.
+  const bool at_rounding = sv[K.back()] <= kRankTol * smax;
+  if (at_rounding) {
+    Eigen::MatrixXd Dk = L.solve(gdot.transpose() * (scale.asDiagonal() * VK));  // L⁻¹ ġᵀ S V_K
+    for (int i = 0; i < K.front(); ++i) Dk -= U.col(i) * (U.col(i).transpose() * Dk);
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Dk);
+    UK = qr.householderQ() * Eigen::MatrixXd::Identity(n_, m);
+  }
+  const Eigen::MatrixXd W = L.transpose().solve(UK);
+  // ∂γ/∂q̇ W: γ is quadratic in q̇ for ideal holonomic and linear velocity constraints, so the
+  // central difference is exact up to rounding whatever the step; 1e-4 of the velocity scale.
+  Eigen::MatrixXd GW(s_, m);
+  for (int k = 0; k < m; ++k) {
+    const double wn = W.col(k).cwiseAbs().maxCoeff();
+    if (!(wn > 0.0)) {
+      GW.col(k).setZero();
+      continue;
+    }
+    const double eps = 1e-4 * vs / wn;
+    lv_ = lqd_ + eps * W.col(k);
+    model_->constraint_rows(rows, t_, lq_, lv_, lgp_, lg0_, lgamp_);
+    lv_ = lqd_ - eps * W.col(k);
+    model_->constraint_rows(rows, t_, lq_, lv_, lgm_, lg0_, lgamm_);
+    GW.col(k) = (lgamp_ - lgamm_) / (2.0 * eps);
+  }
+  const Eigen::MatrixXd SVK = scale.asDiagonal() * VK;  // S V_K
+  const Eigen::MatrixXd Ak = SVK.transpose() * (gdot * W + GW);
+  const Eigen::VectorXd r = SVK.transpose() * (gdot * qdd_perp + gamdot);
+  if (!Ak.allFinite() || !r.allFinite()) {
+    ++limit_fallbacks;
+    return;
+  }
+  // No transversal crossing (at rest at a singular position, a tangency): A is singular and the
+  // limit is not defined; the filter stays.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> asvd(Ak, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::VectorXd as = asvd.singularValues();
+  if (!(as[m - 1] > 1e-8 * as[0])) {
+    ++limit_fallbacks;
+    return;
+  }
+  const Eigen::VectorXd z = -asvd.solve(r);
+  if (!z.allFinite()) {
+    ++limit_fallbacks;
+    return;
+  }
+  const double mu = kFilter * smax;
+  if (at_rounding && sv[K.front()] <= inner) {
+    // Every vanishing direction inside the inner edge: the share is U_K z in the limit basis.
+    for (int i : K) {
+      ycoef[i] = 0.0;
+      lcoef[i] = 0.0;
+    }
+    tmp_ = UK * z;  // (tmp_: the structured solve's scratch, free here) added to y by the caller
+    return;
+  }
+  for (int k = 0; k < m; ++k) {
+    const int i = K[k];
+    const double si = sv[i];
+    double w = 1.0;
+    if (si > inner) {
+      const double x = (outer - si) / (outer - inner);  // 1 at the inner edge, 0 at the outer
+      w = x * x * (3.0 - 2.0 * x);
+    }
+    ycoef[i] = w * z[k] + (1.0 - w) * ycoef[i];
+    // λ along it: y_i/σ_i where σ is clear of the filter, cut smoothly below μ (the multipliers
+    // of rows that become dependent grow without bound; R = gᵀ λ holds outside σ < μ).
+    lcoef[i] = si > kRankTol * smax ? ycoef[i] * si / (si * si + mu * mu) : 0.0;
+  }
 }
 
 }  // namespace pcsim::mech

@@ -243,6 +243,59 @@ class Dynamics {
   bool dense_stale_ = false;  // M and g not yet filled from the sparse values
   mutable std::vector<int> hol_;     // position_residual's scratch
   mutable std::vector<double> phi_;
+
+ public:
+  /// The vanishing limit (issue 21, docs/redundant.md "Inside a crossing's window"). Across a
+  /// singular position the singular values σ_k of the directions k that vanish there go through
+  /// 0 linearly in time, and the exact share z_k = c_k/σ_k of the reaction along them (the force
+  /// that keeps the chain rigid, O(10 N) in A02) has a finite limit that the state alone does not
+  /// give (0/0; the filter sets it to 0 inside σ < μ, which lost O(1e-5) J per crossing at tight
+  /// tolerances). With the limit on, a solve whose non-persistent singular values fall below
+  /// kLimitOuter ν (ν = kLimitWidth σ_max) takes z from the acceleration constraint
+  /// differentiated once more along the motion, projected on the vanishing left singular
+  /// vectors: V_Kᵀ S (ġ q̈ + γ̇) = 0 with q̈ = q̈⊥ + L⁻ᵀ U_K z (the terms V_Kᵀ S g (...) it drops
+  /// are V_Kᵀ B (...) = Σ_K (...) = O(σ)): z is the share at the crossing instant, to first order
+  /// in the time to it. ġ and γ̇ by central differences of the constraint rows along (1, q̇, q̈⊥)
+  /// and along q̇ + ε L⁻ᵀ u_k (2 + 2m row evaluations, m = number of vanishing directions). The
+  /// share taken is z below kLimitInner ν and a C¹ blend to the filtered c_k/σ_k up to
+  /// kLimitOuter ν. The `persistent` smallest singular values (the rows dependent at the start:
+  /// Bricard, a third crank) are never vanishing directions. Off by default: only a run
+  /// (mech::simulate) turns it on, so a solve at a given state is a function of that state only.
+  /// switch_ratio: the structured solve's pivot ratio below which the rank-revealing solve takes
+  /// over (at most kLimitSwitch; a run passes a tenth of its start's where that is lower: the
+  /// smallest pivot ratio of a regular chain of N links is ~0.66/N, far from any singular
+  /// position, and must not send every solve to the dense SVD).
+  void set_vanishing_limit(bool on, int persistent_nullity, double switch_ratio = kLimitSwitch) {
+    limit_on_ = on;
+    persistent_nullity_ = std::max(0, persistent_nullity);
+    limit_switch_ = std::min(kLimitSwitch, switch_ratio);
+  }
+  bool vanishing_limit_on() const { return limit_on_; }
+  static constexpr double kLimitWidth = 1e-4;
+  static constexpr double kLimitInner = 10.0;
+  static constexpr double kLimitOuter = 30.0;
+  /// With the limit on, a structured solve whose smallest Cholesky pivot ratio (sin² of a row's
+  /// angle to the span of the rows before it) is below this hands over to the rank-revealing
+  /// solve, so that no state with σ_min < kLimitOuter ν takes the structured path (σ_min of the
+  /// row-scaled B is at most |b_j| sin θ_j): sin θ < 0.1.
+  static constexpr double kLimitSwitch = 1e-2;
+  /// Solves that used the limit (z blended in with a positive weight) since construction.
+  long limit_solves = 0;
+  /// Of those, the ones whose limit system was singular (no transversal crossing: the filter
+  /// was kept).
+  long limit_fallbacks = 0;
+
+ private:
+  bool limit_on_ = false;
+  int persistent_nullity_ = 0;
+  double limit_switch_ = kLimitSwitch;
+  Eigen::VectorXd lq_, lqd_;                 // the state of the last evaluate() (limit on)
+  Eigen::MatrixXd lgp_, lgm_;                // the rows at the probes
+  Eigen::VectorXd lg0_, lgamp_, lgamm_, lv_;
+  /// Replaces the shares ycoef of the vanishing directions by the limit (see above).
+  void add_vanishing_limit(const Eigen::MatrixXd& U, const Eigen::MatrixXd& V,
+                           const Eigen::VectorXd& sv, const Eigen::VectorXd& scale,
+                           Eigen::VectorXd& ycoef, Eigen::VectorXd& lcoef);
 };
 
 /// "coordinate 'x'" style names for messages.

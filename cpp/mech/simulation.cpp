@@ -307,6 +307,21 @@ class Run {
     for (int i = 0; i < sv.size(); ++i) r += sv[i] > kRankReport * sv[0] ? 1 : 0;
     return r;
   }
+  // The vanishing limit (Dynamics::set_vanishing_limit): on for the run's workspaces, with the
+  // rows dependent from the start as persistent directions and the hand-over threshold at a
+  // tenth of the start's smallest pivot ratio where that is below kLimitSwitch.
+  void start_limit(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    if (s_ == 0 || opt_.form == Form::dae) return;
+    double pivot = 1.0;
+    if (sample_dyn_.evaluate(set_, t, q, qd) == ModelIssue::none &&
+        sample_dyn_.solve(ReactionMethod::compatibility_structured) == ModelIssue::none &&
+        !sample_dyn_.rank_revealing)
+      pivot = sample_dyn_.min_pivot_ratio();
+    const int persistent = r0_ < s_ ? s_ - r0_ : 0;
+    const double sw = std::min(Dynamics::kLimitSwitch, 0.1 * pivot);
+    dyn_.set_vanishing_limit(true, persistent, sw);
+    sample_dyn_.set_vanishing_limit(true, persistent, sw);
+  }
   void start_rank(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (s_ == 0) return;
     // Large sparse models: full rank where the sparse structured solve takes every row (its
@@ -618,6 +633,7 @@ SimulationResult simulate(const Model& model, const Eigen::VectorXd& q0,
   }
   run.track_residuals(options.t0, q, qd);
   run.start_rank(options.t0, q, qd);
+  run.start_limit(options.t0, q, qd);
   result.rank_start = run.s_ > 0 ? run.r0_ : 0;
   result.dependent_start = run.dependent_start_;
   if (!run.observe(nullptr, options.t0, q, qd, observer)) {
