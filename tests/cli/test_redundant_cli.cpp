@@ -285,7 +285,11 @@ BOOST_AUTO_TEST_CASE(a_drive_pulling_a_rod_beyond_its_reach_stops_with_exit_3_na
   BOOST_TEST(!s["complete"].get<bool>());
   const double t = s["failure"]["t"].get<double>();
   BOOST_TEST(t > 0.99);
-  BOOST_TEST(t <= 1.0 + 1e-9);
+  // The rod lies along the drive's normal at t = 1 (a singular position, x = 0); beyond it no
+  // position satisfies the rows. The run crosses the singular instant itself (the vanishing
+  // limit, docs/redundant.md) and stops at the first state past it, within a step's
+  // tolerance: measured 1 + 8.3e-9 s.
+  BOOST_TEST(t <= 1.0 + 1e-7);
   BOOST_TEST(r.out.find("the simulation failed at t = ") != std::string::npos, r.out);
   // The motion up to there is kept, and right: x = sqrt(1 − t²).
   const Table ts = read_csv(dir / "out" / "timeseries.csv");
