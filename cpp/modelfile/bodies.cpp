@@ -1267,7 +1267,22 @@ class Bushing : public ForceType {
     const bool stiff = !is_zero(k[0]) || !is_zero(k[1]) || !is_zero(k[2]);
     const bool damped = !is_zero(c[0]) || !is_zero(c[1]) || !is_zero(c[2]);
     if (stiff) {
-      const Mat3 E1 = x.marker_axes(b1, m1), E2 = x.marker_axes(b2, m2);
+      // A marker frame turned on its body has entries that are sums with numeric coefficients
+      // (cos(pi/6)*NAME_a12 + ...): written into A's products, GiNaC's order of those sums
+      // changes from load to load and so would the tape. Named (NAME_u.., NAME_v..), A's entries
+      // are products of names, as the body's own rotation matrix is.
+      auto named = [&](const Mat3& E, const std::string& prefix) {
+        bool atomic = true;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) atomic = atomic && paren(E.m[i][j]) == E.m[i][j] && E.m[i][j].find('(') == std::string::npos;
+        if (atomic) return E;
+        Mat3 N;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            N.m[i][j] = x.define(name + "_" + prefix + std::to_string(i + 1) + std::to_string(j + 1), E.m[i][j], key);
+        return N;
+      };
+      const Mat3 E1 = named(x.marker_axes(b1, m1), "u"), E2 = named(x.marker_axes(b2, m2), "v");
       auto r = [&](int i, int j) { return name + "_r" + std::to_string(i + 1) + std::to_string(j + 1); };
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) x.define(r(i, j), dot(column(E1, i), column(E2, j)), key);
