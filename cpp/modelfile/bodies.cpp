@@ -1266,23 +1266,36 @@ class Bushing : public ForceType {
     if (auto n = t.get("rotational_damping")) c = scalar_or_vector(x, *n, key + ".rotational_damping");
     const bool stiff = !is_zero(k[0]) || !is_zero(k[1]) || !is_zero(k[2]);
     const bool damped = !is_zero(c[0]) || !is_zero(c[1]) || !is_zero(c[2]);
+    if (!stiff && !damped) return;
+    // A marker frame turned on its body has entries that are sums with numeric coefficients
+    // (cos(pi/6)*NAME_a12 + ...): written into A's products, GiNaC's order of those sums
+    // changes from load to load and so would the tape. So the marker's axes (marker -> body) are
+    // named (NAME_um.., NAME_vm..; on ground they are the axes in ground, NAME_u.., NAME_v..) and
+    // so are its axes in ground (NAME_u.., NAME_v..): A's entries are products of names, as the
+    // body's own rotation matrix is.
+    auto atomic = [](const Mat3& M) {
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (paren(M.m[i][j]) != M.m[i][j] || M.m[i][j].find('(') != std::string::npos) return false;
+      return true;
+    };
+    auto define_all = [&](const Mat3& M, const std::string& prefix) {
+      Mat3 N;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          N.m[i][j] = x.define(name + "_" + prefix + std::to_string(i + 1) + std::to_string(j + 1), M.m[i][j], key);
+      return N;
+    };
+    auto named = [&](const Body& b, const Marker& m, const std::string& prefix) {
+      const Mat3 E = x.marker_axes(b, m);
+      if (atomic(E)) return E;
+      if (b.ground) return define_all(m.R, prefix);
+      const Mat3 R = atomic(m.R) ? m.R : define_all(m.R, prefix + "m");
+      return define_all(multiply(b.pose.A, R), prefix);
+    };
+    const Mat3 E1 = named(b1, m1, "u");
     if (stiff) {
-      // A marker frame turned on its body has entries that are sums with numeric coefficients
-      // (cos(pi/6)*NAME_a12 + ...): written into A's products, GiNaC's order of those sums
-      // changes from load to load and so would the tape. Named (NAME_u.., NAME_v..), A's entries
-      // are products of names, as the body's own rotation matrix is.
-      auto named = [&](const Mat3& E, const std::string& prefix) {
-        bool atomic = true;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) atomic = atomic && paren(E.m[i][j]) == E.m[i][j] && E.m[i][j].find('(') == std::string::npos;
-        if (atomic) return E;
-        Mat3 N;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j)
-            N.m[i][j] = x.define(name + "_" + prefix + std::to_string(i + 1) + std::to_string(j + 1), E.m[i][j], key);
-        return N;
-      };
-      const Mat3 E1 = named(x.marker_axes(b1, m1), "u"), E2 = named(x.marker_axes(b2, m2), "v");
+      const Mat3 E2 = named(b2, m2, "v");
       auto r = [&](int i, int j) { return name + "_r" + std::to_string(i + 1) + std::to_string(j + 1); };
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) x.define(r(i, j), dot(column(E1, i), column(E2, j)), key);
@@ -1298,7 +1311,6 @@ class Bushing : public ForceType {
       x.add_potential(mul("1/2", paren(sum(V))));
     }
     if (damped) {
-      const Mat3 E1 = x.marker_axes(b1, m1);
       LinVec3 dw;
       for (int i = 0; i < 3; ++i) dw[i] = add(b2.pose.w[i], scale("-1", b1.pose.w[i]));
       std::vector<Expr> F;
