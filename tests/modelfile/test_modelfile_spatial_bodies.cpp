@@ -9,7 +9,10 @@
 // - the heavy symmetric top started in steady precession keeps the closed-form rate
 //   Omega (I3 w3 - I1 Omega cos(theta)) = m g l and its nutation angle;
 // - a coin started in steady circular rolling keeps its tilt and the closed-form circle
-//   Omega^2 = g tan(beta) / (3 Rc / 2 + r sin(beta) / 4).
+//   Omega^2 = g tan(beta) / (3 Rc / 2 + r sin(beta) / 4);
+// - spatial bushings (issue 22): the small-rotation period 2 pi sqrt(J/k) about each axis, the
+//   measure 2 sin(phi/2) n against Eigen's axis-angle extraction, the damping about marker1's
+//   axes, the static sag m g / k and turn tan(phi) = m g l / k, energy, and the half turn.
 #define BOOST_TEST_MODULE modelfile_spatial_bodies
 #include <boost/test/unit_test.hpp>
 
