@@ -1189,7 +1189,9 @@ class SpringDamper : public ForceType {
 };
 
 // Linear springs and dampers along the axes of marker1's frame (and about z), between marker1
-// and marker2: V = ½ Σ k_i (d·e_i − rest_i)², F = ½ Σ c_i ((v2 − v1)·e_i)².
+// and marker2: V = ½ Σ k_i (d·e_i − rest_i)², F = ½ Σ c_i ((v2 − v1)·e_i)². Between bodies of
+// which one is spatial, the rotational terms use the relative rotation A = E1ᵀ E2 of the marker
+// frames (spatial_rotational_terms, docs/bodies-spatial.md "Bushings").
 class Bushing : public ForceType {
  public:
   std::string name() const override { return "bushing"; }
@@ -1197,12 +1199,13 @@ class Bushing : public ForceType {
     return {"body1", "marker1", "body2", "marker2", "stiffness", "rest", "damping",
             "rotational_stiffness", "rotational_rest", "rotational_damping"};
   }
-  void apply(Expander& x, const std::string&, const std::string& key, const toml::table& t) const override {
+  void apply(Expander& x, const std::string& name, const std::string& key, const toml::table& t) const override {
     const Body& b1 = x.body(t.get("body1") ? x.string(*t.get("body1"), key + ".body1", "a body name") : "ground", key + ".body1");
     const Body& b2 = x.body(t.get("body2") ? x.string(*t.get("body2"), key + ".body2", "a body name") : "", key + ".body2");
     const Marker& m1 = x.marker(b1, t.get("marker1") ? x.string(*t.get("marker1"), key + ".marker1", "a marker name") : "origin", key + ".marker1");
     const Marker& m2 = x.marker(b2, t.get("marker2") ? x.string(*t.get("marker2"), key + ".marker2", "a marker name") : "origin", key + ".marker2");
-    const bool planar = x.kind(b2).planar();
+    // Planar unless either body is spatial (ground is neither: it takes the other's kind).
+    const bool planar = (b1.ground || x.kind(b1).planar()) && (b2.ground || x.kind(b2).planar());
     const Mat3 E = x.marker_axes(b1, m1);
     const Vec3 d = sub(x.marker_position(b2, m2), x.marker_position(b1, m1));
     const LinVec3 v2 = x.marker_velocity(b2, m2), v1 = x.marker_velocity(b1, m1);
@@ -1217,12 +1220,107 @@ class Bushing : public ForceType {
       if (!is_zero(k[i])) x.add_potential(mul(mul("1/2", k[i]), "(" + sub(di, rest[i]) + ")^2"));
       if (!is_zero(c[i])) x.add_dissipation(mul(mul("1/2", c[i]), "(" + dot(column(E, i), dv).text() + ")^2"));
     }
+    if (!planar) {
+      spatial_rotational_terms(x, name, key, t, b1, m1, b2, m2);
+      return;
+    }
     const Expr kr = x.optional(t, key, "rotational_stiffness"), rr = x.optional(t, key, "rotational_rest"),
                cr = x.optional(t, key, "rotational_damping");
-    if (!planar && (!kr.empty() || !cr.empty()))
-      x.fail(key + ".rotational_stiffness", "rotational terms of a bushing between planar bodies (spatial: a spatial bushing)");
     if (!kr.empty()) x.add_potential(mul(mul("1/2", kr), "(" + sub(relative_angle(x, b1, m1, b2, m2), rr.empty() ? "0" : rr) + ")^2"));
     if (!cr.empty()) x.add_dissipation(mul(mul("1/2", cr), "(" + relative_rate(b1, b2).text() + ")^2"));
+  }
+
+ private:
+  // A scalar (isotropic: the same for the three axes) or a list of 3 expressions.
+  static Vec3 scalar_or_vector(Expander& x, const toml::node& n, const std::string& key) {
+    if (n.is_array()) return x.vector(n, key, false);
+    const Expr e = x.expression(n, key);
+    Vec3 v;
+    for (int i = 0; i < 3; ++i) v[i] = e;
+    return v;
+  }
+
+  // The rotational terms between spatial bodies (either may be ground). With E1, E2 the marker
+  // frames in ground (body rotation · marker axes) and A = E1ᵀ E2 the rotation of marker2's frame
+  // relative to marker1's (marker1 axes), the measure
+  //   θ = vee(A − Aᵀ) / √(1 + tr A) = 2 sin(φ/2) n   (rotation by φ about the unit axis n)
+  // is smooth and ≈ φ n for small φ, defined below a half turn (1 + tr A = 2 + 2 cos φ > 0);
+  // at a half turn the division gives a non-finite value, which the engine reports (exit 3).
+  //   V += ½ Σ k_i θ_i²,   F += ½ Σ c_i (e1_iᵀ (ω2 − ω1))²
+  // with ω the bodies' angular velocities in ground (2 E(e) ė for Euler parameters). Definitions
+  // NAME_r11..r33 (A), NAME_th1..3 (θ) and NAME_wr1..3 (the relative angular velocity in
+  // marker1's axes) keep the texts short and may be used in outputs.
+  static void spatial_rotational_terms(Expander& x, const std::string& name, const std::string& key,
+                                       const toml::table& t, const Body& b1, const Marker& m1,
+                                       const Body& b2, const Marker& m2) {
+    if (auto n = t.get("rotational_rest")) {
+      const Vec3 r = scalar_or_vector(x, *n, key + ".rotational_rest");
+      if (!is_zero(r[0]) || !is_zero(r[1]) || !is_zero(r[2]))
+        x.fail(key + ".rotational_rest",
+               "0 (or absent) on a bushing between spatial bodies: the bushing is unloaded when the "
+               "markers' frames coincide, so a rest rotation is a marker frame (rotate marker2 "
+               "instead: marker2 = { at = [...], axis = [...], angle = \"...\" })");
+    }
+    Vec3 k, c;
+    if (auto n = t.get("rotational_stiffness")) k = scalar_or_vector(x, *n, key + ".rotational_stiffness");
+    if (auto n = t.get("rotational_damping")) c = scalar_or_vector(x, *n, key + ".rotational_damping");
+    const bool stiff = !is_zero(k[0]) || !is_zero(k[1]) || !is_zero(k[2]);
+    const bool damped = !is_zero(c[0]) || !is_zero(c[1]) || !is_zero(c[2]);
+    if (!stiff && !damped) return;
+    // A marker frame turned on its body has entries that are sums with numeric coefficients
+    // (cos(pi/6)*NAME_a12 + ...): written into A's products, GiNaC's order of those sums
+    // changes from load to load and so would the tape. So the marker's axes (marker -> body) are
+    // named (NAME_um.., NAME_vm..; on ground they are the axes in ground, NAME_u.., NAME_v..) and
+    // so are its axes in ground (NAME_u.., NAME_v..): A's entries are products of names, as the
+    // body's own rotation matrix is.
+    auto atomic = [](const Mat3& M) {
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (paren(M.m[i][j]) != M.m[i][j] || M.m[i][j].find('(') != std::string::npos) return false;
+      return true;
+    };
+    auto define_all = [&](const Mat3& M, const std::string& prefix) {
+      Mat3 N;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          N.m[i][j] = x.define(name + "_" + prefix + std::to_string(i + 1) + std::to_string(j + 1), M.m[i][j], key);
+      return N;
+    };
+    auto named = [&](const Body& b, const Marker& m, const std::string& prefix) {
+      const Mat3 E = x.marker_axes(b, m);
+      if (atomic(E)) return E;
+      if (b.ground) return define_all(m.R, prefix);
+      const Mat3 R = atomic(m.R) ? m.R : define_all(m.R, prefix + "m");
+      return define_all(multiply(b.pose.A, R), prefix);
+    };
+    const Mat3 E1 = named(b1, m1, "u");
+    if (stiff) {
+      const Mat3 E2 = named(b2, m2, "v");
+      auto r = [&](int i, int j) { return name + "_r" + std::to_string(i + 1) + std::to_string(j + 1); };
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) x.define(r(i, j), dot(column(E1, i), column(E2, j)), key);
+      const std::string root = "sqrt(1 + " + r(0, 0) + " + " + r(1, 1) + " + " + r(2, 2) + ")";
+      // vee(A − Aᵀ) = (A32 − A23, A13 − A31, A21 − A12)
+      static const int P[3][2] = {{2, 1}, {0, 2}, {1, 0}};
+      std::vector<Expr> V;
+      for (int i = 0; i < 3; ++i) {
+        const std::string th = name + "_th" + std::to_string(i + 1);
+        x.define(th, "(" + r(P[i][0], P[i][1]) + " - " + r(P[i][1], P[i][0]) + ")/" + root, key);
+        if (!is_zero(k[i])) V.push_back(mul(k[i], th + "^2"));
+      }
+      x.add_potential(mul("1/2", paren(sum(V))));
+    }
+    if (damped) {
+      LinVec3 dw;
+      for (int i = 0; i < 3; ++i) dw[i] = add(b2.pose.w[i], scale("-1", b1.pose.w[i]));
+      std::vector<Expr> F;
+      for (int i = 0; i < 3; ++i) {
+        const std::string wr = name + "_wr" + std::to_string(i + 1);
+        x.define(wr, dot(column(E1, i), dw).text(), key);
+        if (!is_zero(c[i])) F.push_back(mul(c[i], wr + "^2"));
+      }
+      x.add_dissipation(mul("1/2", paren(sum(F))));
+    }
   }
 };
 

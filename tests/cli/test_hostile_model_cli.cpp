@@ -133,3 +133,29 @@ BOOST_AUTO_TEST_CASE(initial_angular_velocity_with_euler_rates_or_in_two_frames_
   const Result r = sh("'" + exe() + "' run c.toml --out out", d.path);
   BOOST_TEST(r.status == 0, r.out);
 }
+
+// Issue 22 (BSH): a spatial bushing from the shell. A nonzero rotational_rest and a rotational
+// stiffness of the wrong length end with exit 2 naming the key; a body started at a half turn of
+// the bushing's markers (1 + tr A = 0: the measure is 0/0) ends with exit 3 naming the time, not
+// with numbers; a quarter turn runs (exit 0).
+BOOST_AUTO_TEST_CASE(spatial_bushing_bad_keys_end_with_exit_2_and_a_half_turn_with_exit_3) {
+  Dir d;
+  const std::string model = "[model]\nname = \"mount\"\n[model.body.b]\nkind = \"spatial\"\n"
+                            "mass = 2.0\ninertia = [0.1, 0.2, 0.3]\n[model.force.mount]\ntype = \"bushing\"\n"
+                            "body2 = \"b\"\nstiffness = [100, 100, 100]\n";
+  std::ofstream(d.path / "m.toml") << model << "rotational_stiffness = 5.0\nrotational_rest = 0.1\n";
+  std::ofstream(d.path / "c.toml") << "model = \"m.toml\"\n[initial]\nb_e0 = 1.0\n[solver]\nt_end = 0.01\n";
+  refused(d, "", "model.force.mount.rotational_rest", {"rotate marker2 instead"});
+  std::ofstream(d.path / "m.toml") << model << "rotational_stiffness = [5.0, 5.0]\n";
+  refused(d, "", "model.force.mount.rotational_stiffness", {"a list of 3 expressions"});
+  std::ofstream(d.path / "m.toml") << model << "rotational_stiffness = [5.0, 6.0, 7.0]\nrotational_damping = 0.1\n";
+  std::ofstream(d.path / "c.toml") << "model = \"m.toml\"\n[initial]\nb_e0 = 0.0\nb_e2 = 1.0\n[solver]\nt_end = 0.01\n";
+  const Result half = sh("'" + exe() + "' run c.toml --out out", d.path);
+  BOOST_TEST(half.status == 3, half.out);
+  BOOST_TEST(has(half.out, "t = 0"), half.out);
+  BOOST_TEST(has(half.out, "not finite"), half.out);
+  std::ofstream(d.path / "c.toml") << "model = \"m.toml\"\n[initial]\nb_e0 = 0.7071067811865476\nb_e2 = 0.7071067811865476\n"
+                                      "[solver]\nt_end = 0.01\n";
+  const Result quarter = sh("'" + exe() + "' run c.toml --out out2", d.path);
+  BOOST_TEST(quarter.status == 0, quarter.out);
+}

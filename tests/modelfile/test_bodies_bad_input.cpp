@@ -230,3 +230,40 @@ BOOST_AUTO_TEST_CASE(unknown_keys_of_a_contact_joint_name_the_key) {
   expect_error(on_line("unilateral = true\nfriction = \"c\"\n"), {"model.joint.c.friction", "unknown key"});
   expect_error(on_line("unilateral = \"yes\"\n"), {"model.joint.c.unilateral"});
 }
+
+// Spatial bushings (issue 22, BSH): the rotational keys take a scalar (isotropic) or 3 values;
+// a rest rotation is a marker frame (rotate marker2), so a nonzero rotational_rest is refused.
+namespace {
+std::string spatial_bushing(const std::string& keys) {
+  return kSpatial + "[model.force.mount]\ntype = \"bushing\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n"
+                    "stiffness = [1, 2, 3]\n" + keys;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_spatial_bushing_takes_rotational_terms_as_a_scalar_or_three_values) {
+  BOOST_CHECK_EQUAL(error_of(spatial_bushing("rotational_stiffness = 5\nrotational_damping = 0.1\n")), "");
+  BOOST_CHECK_EQUAL(error_of(spatial_bushing("rotational_stiffness = [1, 2, \"3\"]\nrotational_damping = [0, 0.1, 0.2]\n")), "");
+  BOOST_CHECK_EQUAL(error_of(spatial_bushing("rotational_stiffness = 5\nrotational_rest = 0\n")), "");
+  BOOST_CHECK_EQUAL(error_of(spatial_bushing("rotational_stiffness = 5\nrotational_rest = [0, 0, 0]\n")), "");
+  // Ground as body2, the spatial body as body1.
+  BOOST_CHECK_EQUAL(error_of(kSpatial + "[model.force.mount]\ntype = \"bushing\"\nbody1 = \"s\"\nbody2 = \"ground\"\n"
+                                        "marker2 = \"floor\"\nrotational_stiffness = 5\n"), "");
+}
+
+BOOST_AUTO_TEST_CASE(a_nonzero_rotational_rest_on_a_spatial_bushing_is_refused_naming_the_key) {
+  expect_error(spatial_bushing("rotational_stiffness = 5\nrotational_rest = 0.1\n"),
+               {"model.force.mount.rotational_rest", "0 (or absent)", "rotate marker2 instead"});
+  expect_error(spatial_bushing("rotational_stiffness = 5\nrotational_rest = [0, \"a\", 0]\n"),
+               {"model.force.mount.rotational_rest", "rotate marker2 instead"});
+}
+
+BOOST_AUTO_TEST_CASE(a_spatial_bushing_vector_of_the_wrong_length_is_refused_naming_the_key) {
+  expect_error(spatial_bushing("rotational_stiffness = [1, 2]\n"),
+               {"model.force.mount.rotational_stiffness", "a list of 3 expressions"});
+  expect_error(spatial_bushing("rotational_damping = [1, 2, 3, 4]\n"),
+               {"model.force.mount.rotational_damping", "a list of 3 expressions"});
+  expect_error(spatial_bushing("rotational_stiffness = 1\nrotational_rest = [0, 0]\n"),
+               {"model.force.mount.rotational_rest", "a list of 3 expressions"});
+  expect_error(kSpatial + "[model.force.mount]\ntype = \"bushing\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nstiffness = [1, 2]\n",
+               {"model.force.mount.stiffness", "a list of 3 expressions"});
+}

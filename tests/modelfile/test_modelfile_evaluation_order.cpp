@@ -375,6 +375,16 @@ BOOST_AUTO_TEST_CASE(every_load_of_a_file_gives_the_same_tape) {
                           "r = \"sqrt((x - x0)^2 + y^2 + 1e-3)\"\nw = \"(x0 - x)*r - 2*(y - x)*k\"\n"
                           "[model.energy]\nkinetic = \"0.5*(1 + w^2)*x_d^2 + 0.5*y_d^2\"\n"
                           "potential = \"k*(x - x0)^4/4 - (y - 3)^6*(x0 - x) + w*r - 3*(2 - y)*(x - 1)\"\n"});
+  // A spatial bushing between two moving bodies, its markers turned about skew axes (issue 22,
+  // BSH): with the markers' axes written inline, A = E1ᵀ E2 changed the tape from load to load.
+  files.push_back({"bushing_skew", "[model]\nname = \"bushing_skew\"\n[model.body.a]\nkind = \"spatial\"\n"
+                                   "mass = 1.0\ninertia = [0.1, 0.2, 0.25]\n"
+                                   "markers = { p = { at = [0.1, 0.2, 0.3], axis = [1, 2, 3], angle = 0.7 } }\n"
+                                   "[model.body.b]\nkind = \"spatial\"\nmass = 2.0\ninertia = [0.3, 0.2, 0.4]\n"
+                                   "markers = { q = { at = [-0.2, 0.1, 0.05], axis = [-2, 1, 0.5], angle = -1.9 } }\n"
+                                   "[model.force.mount]\ntype = \"bushing\"\nbody1 = \"a\"\nmarker1 = \"p\"\n"
+                                   "body2 = \"b\"\nmarker2 = \"q\"\nstiffness = [1, 2, 3]\ndamping = [1, 1, 1]\n"
+                                   "rotational_stiffness = [3, 5, 7]\nrotational_damping = [0.3, 0.5, 0.7]\n"});
   BOOST_TEST_REQUIRE(files.size() >= 8u);
   for (const auto& [name, text] : files) {
     std::string first;
