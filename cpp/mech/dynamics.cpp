@@ -862,8 +862,11 @@ void Dynamics::add_vanishing_limit(const Eigen::MatrixXd& U, const Eigen::Matrix
   // (Lᵀq̇: no ideal reaction acts along it); their limit is the span of P Ḃᵀ V_K with P the
   // projector off the kept directions (differentiate Bᵀ v_k = σ_k u_k: P Ḃᵀ v_k = σ̇_k u_k; of
   // Ḃ = (S g L⁻ᵀ)˙ only S ġ L⁻ᵀ survives P and V_K), orthonormalized.
-  const bool at_rounding = sv[K.back()] <= kRankTol * smax;
-  if (at_rounding) {
+  // Taken only when every vanishing direction is inside the inner edge (the share is then U_K z
+  // whole); a cluster that straddles the blend keeps the SVD's directions, whose weights are
+  // per direction.
+  const bool limit_basis = sv[K.back()] <= kRankTol * smax && sv[K.front()] <= inner;
+  if (limit_basis) {
     Eigen::MatrixXd Dk = L.solve(gdot.transpose() * (scale.asDiagonal() * VK));  // L⁻¹ ġᵀ S V_K
     for (int i = 0; i < K.front(); ++i) Dk -= U.col(i) * (U.col(i).transpose() * Dk);
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Dk);
@@ -907,7 +910,7 @@ void Dynamics::add_vanishing_limit(const Eigen::MatrixXd& U, const Eigen::Matrix
     return;
   }
   const double mu = kFilter * smax;
-  if (at_rounding && sv[K.front()] <= inner) {
+  if (limit_basis) {
     // Every vanishing direction inside the inner edge: the share is U_K z in the limit basis.
     for (int i : K) {
       ycoef[i] = 0.0;
