@@ -2,6 +2,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/eigen_instances.hpp"
 #include "linalg/huang.hpp"
 #include "mech/dynamics.hpp"
 #include "mech/projection.hpp"

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 #include <Eigen/SVD>
 
 #include "common/format.hpp"
@@ -387,8 +388,7 @@ bool Dynamics::structured_kernel() {
   // Hand over to the rank-revealing solve where a row is nearly a combination of the rows
   // before it: its pivot U_jj² is the squared distance of row j (in the M⁻¹ metric) from the
   // span of the earlier rows, U_jj²/S_jj = sin² of that angle (independent of the row's scale).
-  PCSIM_UNROLL
-  for (int i = 0; i < s && !singular_s_; ++i)
+  for (int i = 0; i < s && !singular_s_; ++i)  // (an early exit: gcc cannot unroll it)
     singular_s_ = 1.0 < kSwitch * sd[i] * inv_s_[i] * inv_s_[i];  // U_jj² < kSwitch S_jj
   if (singular_s_) return true;
   double* lam = lambda.data();
@@ -580,10 +580,10 @@ ModelIssue Dynamics::solve_rank_revealing() {
     // minimum-norm split leaves it out.
     lcoef[i] = den > 0.0 && si > kRankTol * smax ? s2 * c[i] / den : 0.0;  // φ_i c_i / σ_i²
   }
-  tmp_.resize(0);  // the share in the limit basis, if add_vanishing_limit sets it
-  if (limit_on_) add_vanishing_limit(svd.matrixU(), svd.matrixV(), sv, scale, ycoef, lcoef);
+  Eigen::VectorXd extra;  // the share in the limit basis, if add_vanishing_limit sets it
+  if (limit_on_) add_vanishing_limit(svd.matrixU(), svd.matrixV(), sv, scale, ycoef, lcoef, extra);
   Eigen::VectorXd y = svd.matrixU() * ycoef;
-  if (tmp_.size() == n_) y += tmp_;
+  if (extra.size() == n_) y += extra;
   lambda = scale.asDiagonal() * (svd.matrixV() * lcoef);
   R = L * y;
   qdd = a0_ + L.transpose().solve(y);
@@ -816,7 +816,9 @@ namespace pcsim::mech {
 
 void Dynamics::add_vanishing_limit(const Eigen::MatrixXd& U, const Eigen::MatrixXd& V,
                                    const Eigen::VectorXd& sv, const Eigen::VectorXd& scale,
-                                   Eigen::VectorXd& ycoef, Eigen::VectorXd& lcoef) {
+                                   Eigen::VectorXd& ycoef, Eigen::VectorXd& lcoef,
+                                   Eigen::VectorXd& extra) {
+  extra.resize(0);
   const int ns = static_cast<int>(sv.size());
   if (ns == 0 || !(sv[0] > 0.0) || lq_.size() != n_) return;
   const double smax = sv[0], nu = kLimitWidth * smax;
@@ -916,7 +918,7 @@ void Dynamics::add_vanishing_limit(const Eigen::MatrixXd& U, const Eigen::Matrix
       ycoef[i] = 0.0;
       lcoef[i] = 0.0;
     }
-    tmp_ = UK * z;  // (tmp_: the structured solve's scratch, free here) added to y by the caller
+    extra = UK * z;  // added to y by the caller
     return;
   }
   for (int k = 0; k < m; ++k) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "common/kernel.hpp"
 #include "mech/model.hpp"
@@ -298,10 +299,12 @@ class Dynamics {
   Eigen::VectorXd lq_, lqd_;                 // the state of the last evaluate() (limit on)
   Eigen::MatrixXd lgp_, lgm_;                // the rows at the probes
   Eigen::VectorXd lg0_, lgamp_, lgamm_, lv_;
-  /// Replaces the shares ycoef of the vanishing directions by the limit (see above).
+  /// Replaces the shares ycoef of the vanishing directions by the limit (see above). In the
+  /// limit basis the share is returned in `extra` (n values, added to y by the caller; sized 0
+  /// otherwise) and those directions' ycoef are set to 0.
   void add_vanishing_limit(const Eigen::MatrixXd& U, const Eigen::MatrixXd& V,
                            const Eigen::VectorXd& sv, const Eigen::VectorXd& scale,
-                           Eigen::VectorXd& ycoef, Eigen::VectorXd& lcoef);
+                           Eigen::VectorXd& ycoef, Eigen::VectorXd& lcoef, Eigen::VectorXd& extra);
 };
 
 /// "coordinate 'x'" style names for messages.

@@ -1,4 +1,5 @@
 #include "mech/projection.hpp"
+#include "common/eigen_instances.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -1,6 +1,7 @@
 // simulate(): the ODE and DAE forms on the Radau IIA integrator, with consistent initial values,
 // drift control after accepted steps, residual tracking and the step observer.
 #include "mech/simulation.hpp"
+#include "common/eigen_instances.hpp"
 
 #include <algorithm>
 #include <cmath>

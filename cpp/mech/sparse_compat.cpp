@@ -262,10 +262,10 @@ SparseCompatibility::Outcome SparseCompatibility::solve_filled(
   {
     sdiag_ = ldlt_S_.permutationP() * Eigen::VectorXd(S_.diagonal());
     const Eigen::VectorXd& d = ldlt_S_.vectorD();
-    const double dmax = d.maxCoeff();
+    const double dSmax = d.maxCoeff();
     for (int j = 0; j < s; ++j) {
       min_pivot_ratio_ = std::min(min_pivot_ratio_, d[j] / sdiag_[j]);
-      if (!(d[j] > 1e-13 * dmax) || d[j] < kSwitch * sdiag_[j]) return Outcome::dependent_rows;
+      if (!(d[j] > 1e-13 * dSmax) || d[j] < kSwitch * sdiag_[j]) return Outcome::dependent_rows;
     }
   }
   lambda = ldlt_S_.solve(-G0);

@@ -18,6 +18,7 @@
 
 #include <Eigen/Dense>
 
+#include "common/eigen_instances.hpp"
 #include "common/format.hpp"
 #include "modelfile/bodies.hpp"
 

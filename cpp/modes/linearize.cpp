@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 #include <Eigen/SVD>
 
 #include "common/error.hpp"

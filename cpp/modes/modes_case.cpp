@@ -1,5 +1,6 @@
 // `pcsim modes` for a case (see modes_case.hpp).
 #include "modes/modes_case.hpp"
+#include "common/eigen_instances.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -564,7 +565,7 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
     std::vector<std::complex<double>> w2;
     for (const auto& u : j["undamped"]["frequencies"]) w2.emplace_back(u["omega2"].get<double>(), 0.0);
     if (k == 0) {
-      for (const auto& x : w2) utracks.push_back({x});
+      for (const auto& w2i : w2) utracks.push_back({w2i});
     } else if (w2.size() == utracks.size()) {
       std::vector<std::complex<double>> pred;
       for (const auto& t : utracks) {
@@ -718,9 +719,9 @@ nlohmann::json modes_vary(const sim::Case& c, const ModesOptions& o, const VaryS
   j["tracks"] = tr;
   nlohmann::json ut = nlohmann::json::array();
   for (std::size_t i = 0; i < utracks.size(); ++i) {
-    nlohmann::json w = nlohmann::json::array();
-    for (const auto& x : utracks[i]) w.push_back(num(x.real() >= 0 ? std::sqrt(x.real()) : kNaN));
-    ut.push_back({{"track", i + 1}, {"omega_rad_s", w}});
+    nlohmann::json om = nlohmann::json::array();
+    for (const auto& x : utracks[i]) om.push_back(num(x.real() >= 0 ? std::sqrt(x.real()) : kNaN));
+    ut.push_back({{"track", i + 1}, {"omega_rad_s", om}});
   }
   j["undamped_tracks"] = ut;
   j["undamped_note"] = "undamped frequencies (damping and gyroscopic terms dropped) per step, paired by continuity "

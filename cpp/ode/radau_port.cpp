@@ -9,6 +9,7 @@
 // rtol = 1e-10). All storage comes from the caller's work arrays (same layout as the Fortran
 // kernel): nothing is allocated per step.
 #include "ode/radau_port.hpp"
+#include "common/eigen_instances.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,6 +3,7 @@
 #include "sim/check.hpp"
 
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 
 #include "common/format.hpp"
 #include "mech/dynamics.hpp"

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 #include <Eigen/SVD>
 
 #include "common/error.hpp"

@@ -1,5 +1,6 @@
 // Pseudo-arclength continuation of periodic orbits (see continuation.hpp).
 #include "steady/continuation.hpp"
+#include "common/eigen_instances.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 #include <Eigen/SVD>
 
 #include "common/format.hpp"

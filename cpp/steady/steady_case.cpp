@@ -1,5 +1,6 @@
 // `pcsim steady` for a case (see steady_case.hpp).
 #include "steady/steady_case.hpp"
+#include "common/eigen_instances.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -3,6 +3,7 @@
 // structure the test systems were built with (dependent rows, inconsistent rows).
 #define BOOST_TEST_MODULE huang_properties
 #include <boost/test/unit_test.hpp>
+#include "common/eigen_instances.hpp"
 
 #include "huang_test_util.hpp"
 #include "linalg/huang.hpp"

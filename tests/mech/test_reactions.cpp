@@ -3,6 +3,7 @@
 // analytic ones (pendulum tension, rolling disk on an incline); the compatibility R is ideal.
 #define BOOST_TEST_MODULE mech_reactions
 #include <boost/test/unit_test.hpp>
+#include "common/eigen_instances.hpp"
 
 #include <cmath>
 #include <random>

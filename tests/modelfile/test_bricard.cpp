@@ -13,6 +13,7 @@
 // Nothing here uses pcsim's bodies, joints, Euler parameters or rank-revealing solves.
 #define BOOST_TEST_MODULE modelfile_bricard
 #include <boost/test/unit_test.hpp>
+#include "common/eigen_instances.hpp"
 
 #include <algorithm>
 #include <cmath>

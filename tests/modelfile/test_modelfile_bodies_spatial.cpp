@@ -14,6 +14,7 @@
 //   below the weave speed it does not.
 #define BOOST_TEST_MODULE modelfile_bodies_spatial
 #include <boost/test/unit_test.hpp>
+#include "common/eigen_instances.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -43,10 +43,10 @@ struct Geometry {
   T s;
 };
 
-// a x b without conjugation (Eigen's cross conjugates complex scalars; complex steps need none).
+// u x v without conjugation (Eigen's cross conjugates complex scalars; complex steps need none).
 template <class T>
-Eigen::Matrix<T, 3, 1> cross(const Eigen::Matrix<T, 3, 1>& a, const Eigen::Matrix<T, 3, 1>& b) {
-  return Eigen::Matrix<T, 3, 1>(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
+Eigen::Matrix<T, 3, 1> cross(const Eigen::Matrix<T, 3, 1>& u, const Eigen::Matrix<T, 3, 1>& v) {
+  return Eigen::Matrix<T, 3, 1>(u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]);
 }
 
 template <class T>

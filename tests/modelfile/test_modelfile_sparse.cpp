@@ -9,6 +9,7 @@
 // ordered LDLT), which test_reactions checks against the paper's [G; Dᵀ] solve.
 #define BOOST_TEST_MODULE modelfile_sparse
 #include <boost/test/unit_test.hpp>
+#include "common/eigen_instances.hpp"
 
 #include <algorithm>
 

@@ -15,6 +15,7 @@
 //   axes, the static sag m g / k and turn tan(phi) = m g l / k, energy, and the half turn.
 #define BOOST_TEST_MODULE modelfile_spatial_bodies
 #include <boost/test/unit_test.hpp>
+#include "common/eigen_instances.hpp"
 
 #include <algorithm>
 #include <array>
@@ -653,14 +654,11 @@ BOOST_AUTO_TEST_CASE(bushing_turned_about_one_axis_oscillates_at_sqrt_k_over_J) 
   }
 }
 
-// The measure against an independent formula: two spatial bodies (neither ground) with markers
-// turned about skew axes; at 200 random orientations (rotations closer than 0.05 rad to a half
-// turn skipped: the measure is not defined there) the model's potential V (the text pcsim
-// derives from, evaluated as an output) equals ½ Σ k_i (2 sin(φ/2) n_i)², φ and n (marker1 axes)
-// extracted from E1ᵀ E2 by Eigen's AngleAxis (E = A(e) R_marker, R from Eigen's AngleAxis of the
-// markers' axis and angle), and mount_th1..3 equal 2 sin(φ/2) n: to 1e-12 (of k_max).
-BOOST_AUTO_TEST_CASE(bushing_measure_equals_two_sin_half_angle_times_axis_at_random_orientations) {
-  const std::string body_text = R"([model]
+// Two free spatial bodies whose markers p (on a) and q (on b) are turned about skew axes, joined
+// by a bushing `mount` with the coefficient line `coefficients`.
+namespace {
+std::string two_bodies_with_bushing(const std::string& coefficients) {
+  return R"([model]
 name = "two_bodies"
 [model.body.a]
 kind = "spatial"
@@ -678,8 +676,18 @@ body1 = "a"
 marker1 = "p"
 body2 = "b"
 marker2 = "q"
-rotational_stiffness = [3.0, 5.0, 7.0]
-)";
+)" + coefficients + "\n";
+}
+}  // namespace
+
+// The measure against an independent formula: two spatial bodies (neither ground) with markers
+// turned about skew axes; at 200 random orientations (rotations closer than 0.05 rad to a half
+// turn skipped: the measure is not defined there) the model's potential V (the text pcsim
+// derives from, evaluated as an output) equals ½ Σ k_i (2 sin(φ/2) n_i)², φ and n (marker1 axes)
+// extracted from E1ᵀ E2 by Eigen's AngleAxis (E = A(e) R_marker, R from Eigen's AngleAxis of the
+// markers' axis and angle), and mount_th1..3 equal 2 sin(φ/2) n: to 1e-12 (of k_max).
+BOOST_AUTO_TEST_CASE(bushing_measure_equals_two_sin_half_angle_times_axis_at_random_orientations) {
+  const std::string body_text = two_bodies_with_bushing("rotational_stiffness = [3.0, 5.0, 7.0]");
   const std::string text = with_energy_outputs(body_text, "two_bodies.toml") +
                            "th1 = \"mount_th1\"\nth2 = \"mount_th2\"\nth3 = \"mount_th3\"\n";
   const auto model = load_model_text(text, "two_bodies.toml")->instantiate({});
@@ -721,26 +729,7 @@ rotational_stiffness = [3.0, 5.0, 7.0]
 // Σ c_i |ω2 − ω1|² (rounding). So the coefficients act about marker1's axes, not body or ground
 // axes, and on the relative angular velocity.
 BOOST_AUTO_TEST_CASE(bushing_damping_dissipates_c_times_relative_angular_velocity_squared_in_marker1_axes) {
-  const std::string text = R"([model]
-name = "two_bodies"
-[model.body.a]
-kind = "spatial"
-mass = 1.0
-inertia = [0.1, 0.2, 0.25]
-markers = { p = { at = [0.1, 0.2, 0.3], axis = [1, 2, 3], angle = 0.7 } }
-[model.body.b]
-kind = "spatial"
-mass = 2.0
-inertia = [0.3, 0.2, 0.4]
-markers = { q = { at = [-0.2, 0.1, 0.05], axis = [-2, 1, 0.5], angle = -1.9 } }
-[model.force.mount]
-type = "bushing"
-body1 = "a"
-marker1 = "p"
-body2 = "b"
-marker2 = "q"
-rotational_damping = [0.3, 0.5, 0.7]
-)";
+  const std::string text = two_bodies_with_bushing("rotational_damping = [0.3, 0.5, 0.7]");
   const auto model = load_model_text(text, "two_bodies.toml")->instantiate({});
   const Matrix3d R1 = Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   const Vector3d c(0.3, 0.5, 0.7);

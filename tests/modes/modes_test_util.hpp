@@ -13,6 +13,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 
 #include "common/format.hpp"
 

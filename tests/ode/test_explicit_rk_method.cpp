@@ -5,6 +5,7 @@
 // the exact solution of Hairer, Norsett & Wanner's nonlinear test problem.
 #define BOOST_TEST_MODULE explicit_rk_method
 #include <boost/test/unit_test.hpp>
+#include "common/eigen_instances.hpp"
 
 #include <cmath>
 #include <vector>

@@ -11,6 +11,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 
 #include "ode/radau.hpp"
 #include "ode/radau_port.hpp"

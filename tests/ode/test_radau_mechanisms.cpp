@@ -6,6 +6,7 @@
 // partial-pivoting LU (residual ratio test in the style of LAPACK's dget02).
 #define BOOST_TEST_MODULE radau_mechanisms
 #include <boost/test/unit_test.hpp>
+#include "common/eigen_instances.hpp"
 
 #include <complex>
 #include <random>

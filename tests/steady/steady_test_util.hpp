@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 
 #include "common/format.hpp"
 

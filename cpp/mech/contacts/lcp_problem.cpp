@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include "common/eigen_instances.hpp"
 
 namespace pcsim::mech::contacts {
 

@@ -1,0 +1,27 @@
+// Eigen's dense decompositions on Eigen::MatrixXd, instantiated once (eigen_instances_*.cpp)
+// instead of in every file that uses them.
+//
+// Why: these class templates are large, and each translation unit that used one compiled it
+// again at -O2: BDCSVD alone took 34 s of a file's compile time, JacobiSVD 13 s, and
+// cpp/mech/dynamics.cpp (which uses seven of them) 109 s, 46 s with these declarations. An
+// explicit instantiation declaration (`extern template`) tells the compiler that the members
+// are compiled elsewhere; the out-of-line members (compute(), the bulk) are then not compiled
+// here. Results are unchanged: the same code, compiled with the same flags, called instead of
+// instantiated in place.
+//
+// The instantiations are in eigen_instances_{svd,qr_lu,eig}.cpp.
+//
+// Include this header (it includes <Eigen/Dense>) in any file that uses one of the classes
+// below on MatrixXd. A file that does not include it still works; it compiles its own copy.
+#pragma once
+
+#include <Eigen/Dense>
+
+extern template class Eigen::BDCSVD<Eigen::MatrixXd>;
+extern template class Eigen::JacobiSVD<Eigen::MatrixXd>;
+extern template class Eigen::ColPivHouseholderQR<Eigen::MatrixXd>;
+extern template class Eigen::HouseholderQR<Eigen::MatrixXd>;
+extern template class Eigen::FullPivLU<Eigen::MatrixXd>;
+extern template class Eigen::PartialPivLU<Eigen::MatrixXd>;
+extern template class Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>;
+extern template class Eigen::EigenSolver<Eigen::MatrixXd>;
