@@ -4,3 +4,7 @@
 
 template class Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>;
 template class Eigen::EigenSolver<Eigen::MatrixXd>;
+template Eigen::EigenSolver<Eigen::MatrixXd>&
+Eigen::EigenSolver<Eigen::MatrixXd>::compute(const Eigen::EigenBase<Eigen::MatrixXd>&, bool);
+template Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>&
+Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>::compute(const Eigen::EigenBase<Eigen::MatrixXd>&, int);

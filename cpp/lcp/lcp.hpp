@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 namespace pcsim::lcp {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 #include "common/eigen_instances.hpp"
 
 #include "common/kernel.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/model.hpp"
 #include "mech/status.hpp"

@@ -13,7 +13,7 @@
 
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 #include <toml++/toml.h>
 
 #include "mech/model.hpp"

@@ -194,7 +194,10 @@ Linearization linearize(const LinearizeInput& in) {
     L.Mr = N.transpose() * M * N;
     L.Kr = -N.transpose() * M * J.bottomLeftCorner(n, n) * N;
     if (N.cols() > 0) {
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> me(0.5 * (L.Mr + L.Mr.transpose()));
+      // The solvers' arguments as MatrixXd: their compute() is then the one compiled once
+      // (common/eigen_instances.hpp), not one more instance for an expression type.
+      const Eigen::MatrixXd Mr_sym = 0.5 * (L.Mr + L.Mr.transpose());
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> me(Mr_sym);
       const Eigen::VectorXd mv = me.eigenvalues();
       if (!(mv.minCoeff() > 1e-12 * std::max(mv.maxCoeff(), 0.0)))
         throw NumericalError("the mass matrix is singular on the tangent space of the constraints (its "
@@ -202,7 +205,8 @@ Linearization linearize(const LinearizeInput& in) {
                              " .. " + format_significant(mv.maxCoeff(), 3) +
                              "): a motion the constraints allow carries no inertia",
                              in.times.front());
-      const Eigen::EigenSolver<Eigen::MatrixXd> ke(L.Mr.ldlt().solve(L.Kr), false);
+      const Eigen::MatrixXd MrinvKr = L.Mr.ldlt().solve(L.Kr);
+      const Eigen::EigenSolver<Eigen::MatrixXd> ke(MrinvKr, false);
       double big = 0;
       for (Eigen::Index k = 0; k < ke.eigenvalues().size(); ++k) big = std::max(big, std::abs(ke.eigenvalues()[k]));
       // |w^2| below 1e-10 of the largest is a zero (a rigid-body motion), not a tiny instability.

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "common/kernel.hpp"
 #include "ode/events.hpp"

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 #include <toml++/toml.h>
 
 #include "common/kernel.hpp"

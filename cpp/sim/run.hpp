@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include <nlohmann/json.hpp>
 

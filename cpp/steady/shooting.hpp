@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "common/kernel.hpp"
 #include "mech/model.hpp"

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 extern "C" void dgelsd_(const int* m, const int* n, const int* nrhs, double* a, const int* lda,
                         double* b, const int* ldb, double* s, const double* rcond, int* rank,

@@ -9,7 +9,7 @@
 #include <random>
 #include <string>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "common/error.hpp"
 #include "mech/model.hpp"

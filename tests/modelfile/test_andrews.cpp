@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/simulation.hpp"
 #include "modelfile/model_file.hpp"

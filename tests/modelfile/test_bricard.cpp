@@ -21,7 +21,7 @@
 #include <fstream>
 #include <sstream>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/dynamics.hpp"
 #include "mech/simulation.hpp"

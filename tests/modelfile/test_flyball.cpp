@@ -34,7 +34,7 @@
 #include <sstream>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/simulation.hpp"
 #include "modelfile/model_file.hpp"

@@ -20,7 +20,7 @@
 #include <cmath>
 #include <sstream>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/dynamics.hpp"
 #include "mech/simulation.hpp"

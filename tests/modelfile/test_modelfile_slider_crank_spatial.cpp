@@ -17,7 +17,7 @@
 #include <fstream>
 #include <sstream>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/simulation.hpp"
 #include "modelfile/model_file.hpp"

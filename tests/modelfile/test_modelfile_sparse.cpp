@@ -13,7 +13,7 @@
 
 #include <algorithm>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include <climits>
 #include <filesystem>

@@ -23,7 +23,7 @@
 #include <limits>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/dynamics.hpp"
 #include "mech/simulation.hpp"

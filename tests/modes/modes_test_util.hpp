@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 #include <Eigen/Eigenvalues>
 #include "common/eigen_instances.hpp"
 
@@ -61,7 +61,7 @@ inline std::vector<std::complex<double>> chain_roots(const Chain& c) {
   comp(0, 2) = -a1 / a4;
   comp(0, 3) = -a0 / a4;
   comp(1, 0) = comp(2, 1) = comp(3, 2) = 1.0;
-  const Eigen::Vector4cd r = Eigen::EigenSolver<Eigen::Matrix4d>(comp).eigenvalues();
+  const Eigen::Vector4cd r = Eigen::EigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(comp)).eigenvalues();
   return {r[0], r[1], r[2], r[3]};
 }
 

@@ -117,7 +117,8 @@ void compare(double e, double tol_eigen, double tol_undamped) {
   BOOST_TEST_MESSAGE("e = " << e << ": eigenvalue distance " << dist << " of |lambda|max " << big);
   BOOST_TEST(dist <= tol_eigen * big);
   // Undamped: sqrt(eig(M^-1 K)).
-  Eigen::VectorXcd w2 = Eigen::EigenSolver<Eigen::Matrix3d>(d.M.inverse() * d.K).eigenvalues();
+  const Eigen::MatrixXd MinvK = d.M.inverse() * d.K;
+  Eigen::VectorXcd w2 = Eigen::EigenSolver<Eigen::MatrixXd>(MinvK).eigenvalues();
   std::vector<double> want_w;
   for (int k = 0; k < 3; ++k) want_w.push_back(std::sqrt(w2[k].real()));
   std::sort(want_w.begin(), want_w.end());

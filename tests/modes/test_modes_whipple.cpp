@@ -37,7 +37,7 @@ std::vector<std::complex<double>> benchmark(double v) {
   A.topRightCorner(2, 2).setIdentity();
   A.bottomLeftCorner(2, 2) = -M.inverse() * (g * K0 + v * v * K2);
   A.bottomRightCorner(2, 2) = -M.inverse() * (v * C1);
-  const Eigen::Vector4cd l = Eigen::EigenSolver<Eigen::Matrix4d>(A).eigenvalues();
+  const Eigen::Vector4cd l = Eigen::EigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(A)).eigenvalues();
   return {l[0], l[1], l[2], l[3]};
 }
 

@@ -12,7 +12,7 @@
 #include <limits>
 #include <string>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 #include <unsupported/Eigen/AutoDiff>
 
 #include "ode/radau.hpp"

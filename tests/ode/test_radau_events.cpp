@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "ode/radau.hpp"
 

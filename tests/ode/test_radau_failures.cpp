@@ -10,7 +10,7 @@
 #include <limits>
 #include <string>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "ode/radau.hpp"
 #include "problems.hpp"

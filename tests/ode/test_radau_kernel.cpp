@@ -9,7 +9,7 @@
 #include <complex>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 #include <Eigen/Eigenvalues>
 #include "common/eigen_instances.hpp"
 
@@ -189,7 +189,8 @@ BOOST_AUTO_TEST_CASE(coefficients_diagonalize_the_inverse_radau_iia_matrix) {
   // ulps of numbers of size <= 10.
   const Eigen::Matrix3d a = radau_iia_matrix();
   const Eigen::Matrix3d ainv = a.inverse();
-  Eigen::EigenSolver<Eigen::Matrix3d> es(ainv);
+  // On a MatrixXd: its compute() is compiled once (common/eigen_instances.hpp), not in this file.
+  const Eigen::EigenSolver<Eigen::MatrixXd> es{Eigen::MatrixXd(ainv)};
   double gam_ref = 0, alp_ref = 0, bet_ref = 0;
   for (int i = 0; i < 3; ++i) {
     const std::complex<double> ev = es.eigenvalues()(i);

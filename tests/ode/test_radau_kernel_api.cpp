@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "ode/radau.hpp"
 #include "ode/radau_port.hpp"

@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mechanisms.hpp"
 #include "ode/radau_lu.hpp"

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 #include <Eigen/Eigenvalues>
 #include "common/eigen_instances.hpp"
 

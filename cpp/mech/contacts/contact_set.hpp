@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/contacts/switching.hpp"
 #include "mech/dynamics.hpp"

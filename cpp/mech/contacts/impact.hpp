@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/contacts/contact_set.hpp"
 #include "mech/contacts/lcp_problem.hpp"

@@ -264,8 +264,8 @@ bool solve_problem(const ContactSet& cs, Problem& p, const LcpSettings& settings
   // distribution the compatibility method's ideality gives bilateral constraints).
   Problem reg = p;
   {
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (p.W + p.W.transpose()),
-                                                            Eigen::EigenvaluesOnly);
+    const Eigen::MatrixXd W_sym = 0.5 * (p.W + p.W.transpose());  // a MatrixXd: eigen_instances.hpp
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(W_sym, Eigen::EigenvaluesOnly);
     const double top = es.eigenvalues().cwiseAbs().maxCoeff();
     if (!(es.eigenvalues().minCoeff() > 1e-9 * top)) {
       reg.W.diagonal().array() += 1e-10 * p.W.diagonal().cwiseAbs().maxCoeff();

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "lcp/lcp.hpp"
 #include "mech/contacts/contact_set.hpp"

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "lcp/lcp.hpp"
 #include "mech/model.hpp"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "common/eigen_instances.hpp"
 
 #include "mech/contacts/switching.hpp"
 #include "modelfile/model_file.hpp"
