@@ -48,13 +48,17 @@ endfunction()
 # Every tests/<dir>/test_*.cpp becomes one Boost.Test executable and one CTest test of the
 # same name, run from the source tree root so tests can read cases/ and models/. PCSIM_EXE in
 # the test's environment names the pcsim executable, for the tests that run it as a user does
-# (a generator expression: the executable is defined in cpp/cli, resolved at generate time).
+# (a generator expression: the executable is defined in cpp/cli, resolved at generate time), and
+# PCSIM_BINARY_DIR the build tree (tests/support/build_tree.hpp reads it).
 # The tests named under SIEVE are the sieve's (they need its model, client or C++ forms): they
-# also link pcsim_sieve, carry the label "sieve", and exist only with PCSIM_WITH_SIEVE. Every
-# test sees PCSIM_WITH_SIEVE as 1 or 0: a test case of another test that runs a sieve case
-# through the pcsim executable is the sieve's by the decorator
+# also link pcsim_sieve, carry the label "sieve", and exist only with PCSIM_WITH_SIEVE. A test
+# whose source names PCSIM_WITH_SIEVE sees it as 1 or 0: a test case of another test that runs a
+# sieve case through the pcsim executable is the sieve's by the decorator
 # `* boost::unit_test::enable_if<PCSIM_WITH_SIEVE>()` (skipped in a build without it); one that
 # calls the sieve's code is compiled only #if PCSIM_WITH_SIEVE (its test links the sieve then).
+# Only those tests get the definition, and nothing on a test's command line names the build tree:
+# the other tests then compile to the same command line in every build tree, which the compiler
+# cache in depend mode (CI) needs to serve one build's objects to another.
 function(pcsim_boost_tests)
   cmake_parse_arguments(T "" "DIR" "LINKS;LABELS;SIEVE" ${ARGN})
   file(GLOB files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/${T_DIR}/test_*.cpp")
@@ -72,11 +76,16 @@ function(pcsim_boost_tests)
     add_executable(${name} "${f}")
     target_link_libraries(${name} PRIVATE ${links} Boost::unit_test_framework)
     target_compile_definitions(${name} PRIVATE BOOST_TEST_DYN_LINK
-      PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" PCSIM_BINARY_DIR="${CMAKE_BINARY_DIR}"
-      PCSIM_WITH_SIEVE=$<BOOL:${PCSIM_WITH_SIEVE}>)
+      PCSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+    file(READ "${f}" source)
+    string(FIND "${source}" "PCSIM_WITH_SIEVE" mentions_sieve)
+    if(NOT mentions_sieve EQUAL -1)
+      target_compile_definitions(${name} PRIVATE PCSIM_WITH_SIEVE=$<BOOL:${PCSIM_WITH_SIEVE}>)
+    endif()
     add_test(NAME ${name} COMMAND ${name} --log_level=test_suite --report_level=short
              WORKING_DIRECTORY "${PROJECT_SOURCE_DIR}")
-    set_tests_properties(${name} PROPERTIES ENVIRONMENT "PCSIM_EXE=$<TARGET_FILE:pcsim>")
+    set_tests_properties(${name} PROPERTIES
+      ENVIRONMENT "PCSIM_EXE=$<TARGET_FILE:pcsim>;PCSIM_BINARY_DIR=${CMAKE_BINARY_DIR}")
     if(labels)
       set_tests_properties(${name} PROPERTIES LABELS "${labels}")
     endif()

@@ -756,9 +756,12 @@ void check_polynomial_in(const ex& root, const std::vector<ex>& symbols, const E
 // no owning raw pointers to their objects, so leaks of its own are still reported. (The hook is
 // read by the sanitizer runtime; without sanitizers nothing calls it.)
 // Siconos numerics 4.4 (the LCP plugin, issue 12) never frees the 32-byte enumeration state its
-// enumerative LCP solver allocates in enum_init on each call; suppressed by that function's name.
+// enumerative LCP solver allocates in enum_init on each call. All three are suppressed by library
+// name, which LeakSanitizer matches without symbolizing the stack: CI runs the sanitized suite
+// with symbolize=0 (reading the debug information of every loaded library at each exit cost
+// 0.2 s per process) and re-runs a failed test symbolized.
 extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libcln.so\nleak:libginac.so\nleak:enum_init\n";
+  return "leak:libcln.so\nleak:libginac.so\nleak:libsiconos_numerics.so\n";
 }
 // ... and quietly: the table of suppressions used that LeakSanitizer otherwise prints at exit
 // would be mixed into every program's stderr (the CLI tests count its lines).

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/build_tree.hpp"
 #include "huang_test_util.hpp"
 #include "linalg/huang.hpp"
 
@@ -18,7 +19,10 @@ using namespace pcsim::test;
 
 namespace {
 
-const char* kResults = PCSIM_BINARY_DIR "/huang_driver_results.txt";
+// Written by the huang_driver test (a fixture of this one) into the build tree.
+std::string results_file() {
+  return (pcsim_test::binary_dir() / "huang_driver_results.txt").string();
+}
 
 // Reads k reals; an empty array is written as a single "-".
 std::vector<double> read_reals(std::istream& in, long k) {
@@ -41,8 +45,9 @@ Eigen::MatrixXd as_matrix(const std::vector<double>& v, long rows, long cols) {
 BOOST_AUTO_TEST_CASE(cpp_through_bridge_and_port_match_the_fortran_driver) {
   // 1e-13 relative: the cross-language contract (the arithmetic is the same, and the
   // driver prints 17 significant digits, so the inputs are read back exactly).
-  std::ifstream in(kResults);
-  BOOST_TEST_REQUIRE(in.good(), "missing " << kResults << ": run the huang_driver test first "
+  const std::string results = results_file();
+  std::ifstream in(results);
+  BOOST_TEST_REQUIRE(in.good(), "missing " << results << ": run the huang_driver test first "
                                            "(ctest -R huang runs it as a fixture)");
   int ncase = 0;
   in >> ncase;

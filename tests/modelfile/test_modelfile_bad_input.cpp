@@ -7,6 +7,7 @@
 
 #include <fstream>
 
+#include "../support/build_tree.hpp"
 #include "modelfile/model_file.hpp"
 #include "modelfile_test_util.hpp"
 
@@ -36,7 +37,7 @@ tension = "-(R_x*x + R_y*y)/L"
 
 std::filesystem::path write(const std::string& text) {
   static int counter = 0;
-  const auto dir = std::filesystem::path(PCSIM_BINARY_DIR) / "modelfile_bad_input";
+  const auto dir = pcsim_test::binary_dir() / "modelfile_bad_input";
   std::filesystem::create_directories(dir);
   const auto file = dir / ("case" + std::to_string(++counter) + ".toml");
   std::ofstream(file) << text;

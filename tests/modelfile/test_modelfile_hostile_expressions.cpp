@@ -13,6 +13,7 @@
 #include <random>
 #include <set>
 
+#include "../support/build_tree.hpp"
 #include "mech/simulation.hpp"
 #include "modelfile/expression.hpp"
 #include "modelfile/model_file.hpp"
@@ -35,7 +36,7 @@ std::string model(const std::string& potential, const std::string& kinetic = "0.
 
 std::filesystem::path write(const std::string& text) {
   static int counter = 0;
-  const auto dir = std::filesystem::path(PCSIM_BINARY_DIR) / "modelfile_hostile";
+  const auto dir = pcsim_test::binary_dir() / "modelfile_hostile";
   std::filesystem::create_directories(dir);
   const auto file = dir / ("m" + std::to_string(++counter) + ".toml");
   std::ofstream(file) << text;

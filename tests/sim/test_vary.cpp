@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "../support/build_tree.hpp"
 #include "common/error.hpp"
 #include "sim/case.hpp"
 #include "sim/vary.hpp"
@@ -17,7 +18,7 @@ namespace {
 
 /// A case of the paper's sieve through the generic layer (its model file, no application).
 Case base_case() {
-  const auto dir = std::filesystem::path(PCSIM_BINARY_DIR) / "test-scratch" / "vary";
+  const auto dir = pcsim_test::binary_dir() / "test-scratch" / "vary";
   std::filesystem::create_directories(dir);
   const auto file = dir / "mini.toml";
   std::ofstream(file) << "model = \"" << PCSIM_SOURCE_DIR << "/models/sieve_1995.toml\"\n";

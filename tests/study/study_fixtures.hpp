@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../support/build_tree.hpp"
 #include "common/error.hpp"
 #include "sieve/source.hpp"
 #include "sim/case.hpp"
@@ -22,7 +23,7 @@ namespace study_test {
 
 /// A fresh empty directory under the build tree, removed first if it exists.
 inline std::filesystem::path scratch(const std::string& name) {
-  const std::filesystem::path d = std::filesystem::path(PCSIM_BINARY_DIR) / "test-scratch" / name;
+  const std::filesystem::path d = pcsim_test::binary_dir() / "test-scratch" / name;
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

@@ -13,6 +13,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "build_tree.hpp"
+
 namespace pcsim_test {
 
 namespace fs = std::filesystem;
@@ -25,7 +27,7 @@ struct Result {
 /// The pcsim executable: PCSIM_EXE, or the build tree's.
 inline std::string exe() {
   const char* e = std::getenv("PCSIM_EXE");
-  return e ? e : (std::string(PCSIM_BINARY_DIR) + "/pcsim");
+  return e ? e : (binary_dir() / "pcsim").string();
 }
 
 /// Runs a shell command line in `cwd`, capturing its output and exit status (-1 if it did not
@@ -72,7 +74,7 @@ struct TempDir {
 /// A fresh scratch directory in the build tree: test-scratch/<suite>/<name>, emptied first
 /// (kept after the test, for a look at what a failing run wrote).
 inline fs::path scratch(const std::string& suite, const std::string& name) {
-  const fs::path d = fs::path(PCSIM_BINARY_DIR) / "test-scratch" / suite / name;
+  const fs::path d = binary_dir() / "test-scratch" / suite / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
