@@ -1,9 +1,10 @@
 # Helpers shared by the folders' CMakeLists.txt.
 
 # pcsim_component(NAME name FORTRAN globs... BRIDGE globs... CXX globs... LINKS targets...)
-# Builds the static library (shared with PCSIM_SHARED_LIBS, except the installed kernels) pcsim_<name> from the files matching the globs (relative to the
-# source tree's root; CONFIGURE_DEPENDS, so a new file is picked up by the next build). Fortran
-# modules go to a per-target directory.
+# Builds the static library (shared with PCSIM_SHARED_LIBS, except the installed kernels)
+# pcsim_<name> from the files matching the globs (relative to the source tree's root;
+# CONFIGURE_DEPENDS, so a new file is picked up by the next build). Fortran modules go to a
+# per-target directory.
 function(pcsim_component)
   cmake_parse_arguments(C "" "NAME" "FORTRAN;BRIDGE;CXX;LINKS" ${ARGN})
   set(srcs)
