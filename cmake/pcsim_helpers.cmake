@@ -59,7 +59,7 @@ endfunction()
 # calls the sieve's code is compiled only #if PCSIM_WITH_SIEVE (its test links the sieve then).
 # Only those tests get the definition, and nothing on a test's command line names the build tree:
 # the other tests then compile to the same command line in every build tree, which the compiler
-# cache in depend mode (CI) needs to serve one build's objects to another.
+# cache (CI) needs to serve one build's objects to another.
 function(pcsim_boost_tests)
   cmake_parse_arguments(T "" "DIR" "LINKS;LABELS;SIEVE" ${ARGN})
   file(GLOB files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/${T_DIR}/test_*.cpp")

@@ -1,7 +1,7 @@
 // The build tree a test runs from, read at run time from PCSIM_BINARY_DIR (CTest sets it for every
 // test; see pcsim_boost_tests in cmake/pcsim_helpers.cmake). It is not compiled in: a test's
-// object file is then the same in every build tree, so the compiler cache (ccache, in depend mode
-// in CI) serves the build without the sieve the objects of the Release build.
+// command line is then the same in every build tree, so the compiler cache (ccache, in CI) serves
+// the later builds the objects of the Release build.
 #pragma once
 
 #include <cstdlib>
