@@ -17,6 +17,7 @@
 #include <toml++/toml.h>
 
 #include "animate/scene.hpp"
+#include "../support/build_tree.hpp"
 #include "animate/video.hpp"
 #include "animate_util.hpp"
 
@@ -39,11 +40,7 @@ std::set<std::string> listing(const fs::path& dir) {
 // than the case itself (Andrews' squeezer runs 0.03 s; at 1 s its crank spins up to 45,000 steps).
 std::string short_run(const fs::path& file) {
   const std::string name = file.stem().string();
-#ifndef NDEBUG
-  double limit = 0.2;
-#else
-  double limit = name.rfind("sieve", 0) == 0 ? 0.3 : 1.0;
-#endif
+  double limit = pcsim_test::slow_build() ? 0.2 : name.rfind("sieve", 0) == 0 ? 0.3 : 1.0;
   const toml::table t = toml::parse_file(file.string());
   limit = std::min(limit, t["solver"]["t_end"].value_or(limit));
   std::ostringstream os;

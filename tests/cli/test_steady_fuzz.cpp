@@ -20,6 +20,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include "../support/files_util.hpp"
+#include "../support/build_tree.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -35,11 +36,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-#ifdef NDEBUG
-constexpr int kDefaultInputs = 500;  // about 10 s
-#else
-constexpr int kDefaultInputs = 60;  // ASan/UBSan: each run is several times slower
-#endif
+// 500 inputs take about 10 s; under ASan/UBSan each run is several times slower: 60.
+const int kDefaultInputs = pcsim_test::slow_build() ? 60 : 500;
 constexpr unsigned kTimeLimitSeconds = 60;  // per input; the slowest is reported
 
 const char* const kBaseCase =

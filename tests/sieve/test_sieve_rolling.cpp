@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <unistd.h>
+#include "../support/build_tree.hpp"
 
 #include "csv_util.hpp"
 #include "sim/case.hpp"
@@ -34,11 +35,7 @@ const fs::path kCase = fs::path(PCSIM_SOURCE_DIR) / "cases" / "sieve_1995.toml";
 
 // The paper's whole run (10 s) in Release; in Debug (sanitizers, -O0, about 30x slower) the
 // first 0.5 s, which holds the start-up transient, where the velocities are largest.
-#ifdef NDEBUG
-const char* const kTEnd = "10";
-#else
-const char* const kTEnd = "0.5";
-#endif
+const char* const kTEnd = pcsim_test::slow_build() ? "0.5" : "10";
 
 struct Run {
   Csv csv;
@@ -184,13 +181,12 @@ void expect_equal(const nlohmann::json& got, const nlohmann::json& ref, const st
 // step (sieve::testing::path_before_issue_14). (The default path -- the model file's tape, the own LU on the reduced
 // systems, the structured solve -- agrees with them to 5 digits; the case tests check that.)
 BOOST_AUTO_TEST_CASE(printed_sign_reproduces_the_references_made_before_erratum_7) {
-#ifdef NDEBUG
-  const std::vector<const char*> names{"sieve_1995", "sieve_1995_theta_locked"};
-#else
-  // Debug (sanitizers, -O0) runs this path ~60 times slower; one case keeps the suite short
-  // and still checks that the instrumented build computes the same bits.
-  const std::vector<const char*> names{"sieve_1995_theta_locked"};
-#endif
+  // Debug (sanitizers) runs this path ~60 times slower; one case keeps the suite short and still
+  // checks that the instrumented build computes the same bits.
+  const std::vector<const char*> names =
+      pcsim_test::slow_build()
+          ? std::vector<const char*>{"sieve_1995_theta_locked"}
+          : std::vector<const char*>{"sieve_1995", "sieve_1995_theta_locked"};
   for (const char* name : names) {
     const fs::path dir = fs::path(PCSIM_SOURCE_DIR) / "cases";
     const Case c = load_case(dir / (std::string(name) + ".toml"),

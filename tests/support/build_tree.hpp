@@ -4,6 +4,8 @@
 // the later builds the objects of the Release build.
 #pragma once
 
+#include <dlfcn.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
@@ -18,6 +20,22 @@ inline std::filesystem::path binary_dir() {
                              "(or set it to the build tree)");
   }
   return std::filesystem::path(d);
+}
+
+/// True in a process that runs under AddressSanitizer (the sanitized Debug build links its runtime
+/// into every test executable), where pcsim runs many times slower and the tests that size their
+/// work take the short version. Asked at run time, not by NDEBUG: CI's sanitized build compiles
+/// the tests' own code with the Release build's flags (PCSIM_TESTS_AS_RELEASE).
+inline bool sanitized() { return dlsym(RTLD_DEFAULT, "__asan_init") != nullptr; }
+
+/// A build where the tests take their short versions: sanitized, or the tests' code compiled
+/// without NDEBUG (a Debug build at -O0).
+inline bool slow_build() {
+#ifdef NDEBUG
+  return sanitized();
+#else
+  return true;
+#endif
 }
 
 }  // namespace pcsim_test
