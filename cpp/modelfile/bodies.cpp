@@ -844,6 +844,82 @@ Lin relative_rate(const Body& b1, const Body& b2) {
   return add(b2.pose.w[2], scale("-1", b1.pose.w[2]));
 }
 
+}  // namespace
+
+JointMotion joint_motion(Expander& x, const Joint& j, const std::string& dof, const std::string& key,
+                         const std::string& dof_key) {
+  JointMotion m;
+  const std::string what = "'" + j.name + "' (" + j.type + ")";
+  if (!j.coordinates.empty()) {  // a tree joint: its coordinate
+    std::size_t i = 0;
+    if (!dof.empty()) {
+      auto it = std::find(j.coordinates.begin(), j.coordinates.end(), dof);
+      if (it == j.coordinates.end())
+        x.fail(dof_key, "one of the coordinates of the joint " + what + " (" + join(j.coordinates) + "), got '" + dof + "'");
+      i = static_cast<std::size_t>(it - j.coordinates.begin());
+    } else if (j.coordinates.size() != 1) {
+      x.fail(dof_key, "which coordinate of the joint " + what + " (one of: " + join(j.coordinates) + ")");
+    }
+    m.position = j.coordinates[i];
+    m.rate = velocity_of(j.coordinates[i]);
+    m.rotation = j.type == "revolute" || (j.type == "planar" && i == 2);
+    const Body& b1 = x.body(j.body1, key);
+    m.planar = x.kind(x.body(j.body2, key)).planar();
+    m.axes = x.marker_axes(b1, x.marker(b1, j.marker1, key));
+    // The axis: z for a rotation; a planar joint's travels along marker1's x and y; a
+    // prismatic joint's along x in the plane, along z in space.
+    m.axis = m.rotation ? 2 : j.type == "planar" ? static_cast<int>(i) : m.planar ? 0 : 2;
+    return m;
+  }
+  const bool rows = j.type == "revolute" || j.type == "prismatic" || j.type == "cylindrical";
+  if (!rows || j.body2.empty())
+    x.fail(key, "a revolute, prismatic or cylindrical joint (written as rows, or a tree joint with coordinates), got " + what);
+  const Body& b2 = x.body(j.body2, key);
+  if (b2.parent_joint == j.name)
+    x.fail(key, "a joint with a coordinate; " + what + " prescribes its motion (motion = [...]) and has none");
+  const Body& b1 = x.body(j.body1, key);
+  const Marker& mk1 = x.marker(b1, j.marker1, key);
+  const Marker& mk2 = x.marker(b2, j.marker2, key);
+  m.planar = j.planar;
+  m.axes = x.marker_axes(b1, mk1);
+  std::string kind = j.type == "revolute" ? "rotation" : "translation";
+  if (j.type == "cylindrical") {
+    if (dof != "rotation" && dof != "translation")
+      x.fail(dof_key, "\"rotation\" or \"translation\" (which motion of the cylindrical joint '" + j.name + "')" +
+                          (dof.empty() ? std::string() : ", got '" + dof + "'"));
+    kind = dof;
+  } else if (!dof.empty() && dof != kind) {
+    x.fail(dof_key, "\"" + kind + "\" or nothing (the only motion of the " + j.type + " joint '" + j.name + "'), got '" + dof + "'");
+  }
+  m.rotation = kind == "rotation";
+  // The axis: z of marker1's frame, or x for a planar prismatic joint's travel.
+  m.axis = (m.planar && !m.rotation) ? 0 : 2;
+  const Vec3 axis = column(m.axes, m.axis);
+  if (m.rotation) {
+    // (ω2 − ω1)·axis; in the plane also the angle itself.
+    m.rate = dot(axis, add(b2.pose.w, [&] {
+               LinVec3 w1 = b1.pose.w;
+               for (int i = 0; i < 3; ++i) w1[i] = scale("-1", w1[i]);
+               return w1;
+             }()));
+    if (m.planar) {
+      m.position = relative_angle(x, b1, mk1, b2, mk2);
+      m.rate = relative_rate(b1, b2);
+    }
+  } else {
+    // d·axis and its rate (v2 − v1 at marker2)·axis: d/dt(d·a) = (ḋ − ω1 × d)·a.
+    const Vec3 P2 = x.marker_position(b2, mk2);
+    m.position = dot(axis, sub(P2, x.marker_position(b1, mk1)));
+    const LinVec3 v2 = x.marker_velocity(b2, mk2), v1 = x.point_velocity(b1, P2);
+    LinVec3 rel;
+    for (int i = 0; i < 3; ++i) rel[i] = add(v2[i], scale("-1", v1[i]));
+    m.rate = dot(axis, rel);
+  }
+  return m;
+}
+
+namespace {
+
 class PlanarPrismatic : public JointType {
  public:
   std::string name() const override { return "prismatic"; }
@@ -990,7 +1066,14 @@ class Drive : public JointType {
 class Gear : public JointType {
  public:
   std::string name() const override { return "gear"; }
-  std::vector<std::string> extra_keys() const override { return {"joint1", "joint2", "ratio"}; }
+  std::vector<std::string> extra_keys() const override { return {"joint1", "joint2", "ratio", "dof1", "dof2"}; }
+  void rows(Expander& x, Joint& j) const override;
+};
+
+class Coupler : public JointType {
+ public:
+  std::string name() const override { return "coupler"; }
+  std::vector<std::string> extra_keys() const override { return {"joints", "ratios", "dofs"}; }
   void rows(Expander& x, Joint& j) const override;
 };
 
@@ -1013,8 +1096,30 @@ void Drive::rows(Expander& x, Joint& j) const {
   std::string type;
   if (auto jn = t.get("joint")) {
     const Joint& tj = x.joint(x.string(*jn, j.key + ".joint", "the name of a joint"), j.key + ".joint");
-    if (tj.coordinates.empty())
-      x.fail(j.key + ".joint", "a joint that places its body by coordinates (coordinates = [...]), got '" + tj.name + "'");
+    if (tj.coordinates.empty()) {
+      // A revolute, prismatic or cylindrical joint written as rows: its motion c (the members'
+      // table of docs/bodies.md) is prescribed, c − f(t) = 0, or in velocity form
+      // ċ − ḟ(t) = 0 for a spatial rotation (its angle is not a function of q).
+      std::string dof;
+      if (auto c = t.get("coordinate")) dof = x.string(*c, j.key + ".coordinate", "\"rotation\" or \"translation\"");
+      const JointMotion m = joint_motion(x, tj, dof, j.key + ".joint", j.key + ".coordinate");
+      Row r;
+      r.name = j.name;
+      if (!m.position.empty()) {
+        r.holonomic = sub(m.position, f);
+      } else {
+        r.velocity_form = true;
+        r.velocity = m.rate;
+        r.velocity.rest = add(r.velocity.rest, neg(time_derivative(x, f, j.key + ".motion")));
+      }
+      j.rows.push_back(r);
+      if (m.rotation) j.moment[m.axis] = "lambda_" + r.name;
+      else j.force[m.axis] = "lambda_" + r.name;
+      j.axes = m.axes;
+      j.planar = m.planar;
+      j.has_reaction = true;
+      return;
+    }
     type = tj.type;
     if (auto c = t.get("coordinate")) {
       coordinate = x.string(*c, j.key + ".coordinate", "one of the joint's coordinates");
@@ -1049,25 +1154,91 @@ void Drive::rows(Expander& x, Joint& j) const {
   j.has_reaction = true;
 }
 
+// The gear's row couples joint2's motion to joint1's: holonomic, c2 − ratio·c1 fixed at the
+// initial state, when both displacements are functions of q (tree coordinates, planar joints
+// written as rows, translations); in velocity form, ċ2 − ratio·ċ1 = 0, when either is a
+// spatial rotation written as rows (its angle is not a function of q: the paper's velocity
+// form, as for a rolling wheel). Its multiplier is the torque (force) on joint2's body2 about
+// (along) joint2's axis; joint1's receives −ratio·λ.
 void Gear::rows(Expander& x, Joint& j) const {
   const toml::table& t = *j.table;
-  auto coordinate_of = [&](const char* k) {
+  auto member = [&](const char* k, const char* dk) {
     const toml::node* n = t.get(k);
-    if (!n) x.fail(j.key + "." + k, "a revolute or prismatic joint that places its body by a coordinate");
-    const Joint& tj = x.joint(x.string(*n, j.key + "." + k, "the name of a joint"), j.key + "." + k);
-    if (tj.coordinates.size() != 1)
-      x.fail(j.key + "." + k, "a joint with one coordinate (revolute or prismatic, coordinates = [\"NAME\"]), got '" + tj.name + "'");
-    return tj.coordinates[0];
+    if (!n) x.fail(j.key + "." + k, "the joint whose motion the gear couples (a revolute, prismatic or cylindrical joint, a tree joint or rows)");
+    const Joint& mj = x.joint(x.string(*n, j.key + "." + k, "the name of a joint"), j.key + "." + k);
+    std::string dof;
+    if (const toml::node* d = t.get(dk)) dof = x.string(*d, j.key + "." + dk, "a coordinate name, or \"rotation\" / \"translation\"");
+    return std::make_pair(mj.name + "/" + dof, joint_motion(x, mj, dof, j.key + "." + k, j.key + "." + dk));
   };
-  const std::string c1 = coordinate_of("joint1"), c2 = coordinate_of("joint2");
+  const auto [n1, c1] = member("joint1", "dof1");
+  const auto [n2, c2] = member("joint2", "dof2");
+  if (n1 == n2) x.fail(j.key + ".joint2", "a motion other than joint1's (a gear couples two motions)");
   const Expr ratio = x.required(t, j.key, "ratio", "the ratio: coordinate2 = ratio * coordinate1 (+ its initial offset)");
   Row r;
   r.name = j.name;
-  r.holonomic = sub(c2, mul(ratio, c1));
-  r.from_initial = true;
+  if (!c1.position.empty() && !c2.position.empty()) {
+    r.holonomic = sub(c2.position, mul(ratio, c1.position));
+    r.from_initial = true;
+  } else {
+    r.velocity_form = true;
+    r.velocity = add(c2.rate, scale(neg(ratio), c1.rate));
+  }
   j.rows.push_back(r);
-  j.moment[2] = "lambda_" + r.name;  // the torque (or force) on joint2's coordinate
+  // The torque (force) on joint2's coordinate, about (along) its axis in joint2's frame.
+  const std::string l = "lambda_" + r.name;
+  if (c2.rotation) j.moment[c2.axis] = l;
+  else j.force[c2.axis] = l;
+  j.axes = c2.axes;
+  j.planar = c2.planar;
   j.has_reaction = true;
+}
+
+// A coupler: Σ ratio_i·c_i fixed at the initial state (or Σ ratio_i·ċ_i = 0, in velocity form
+// when a member is a spatial rotation written as rows), e.g. a differential or a planetary
+// gear's Willis equation. Member i receives ratio_i·λ about (along) its axis.
+void Coupler::rows(Expander& x, Joint& j) const {
+  const toml::table& t = *j.table;
+  const toml::array* js = t.get("joints") ? t.get("joints")->as_array() : nullptr;
+  if (!js || js->size() < 2) x.fail(j.key + ".joints", "a list of two or more joint names (the motions the coupler ties)");
+  const toml::array* rs = t.get("ratios") ? t.get("ratios")->as_array() : nullptr;
+  if (!rs || rs->size() != js->size())
+    x.fail(j.key + ".ratios", "a list of " + std::to_string(js->size()) + " expressions (one coefficient per joint: sum of ratio_i * c_i stays at its initial value)");
+  const toml::array* ds = t.get("dofs") ? t.get("dofs")->as_array() : nullptr;
+  if (t.get("dofs") && (!ds || ds->size() != js->size()))
+    x.fail(j.key + ".dofs", "a list of " + std::to_string(js->size()) + " strings (per joint: a coordinate name, \"rotation\", \"translation\" or \"\")");
+  std::vector<JointMotion> ms;
+  std::vector<Expr> ratios;
+  std::vector<std::string> seen, names;
+  bool holonomic = true;
+  for (std::size_t i = 0; i < js->size(); ++i) {
+    const std::string k = j.key + ".joints[" + std::to_string(i) + "]";
+    const std::string dk = j.key + ".dofs[" + std::to_string(i) + "]";
+    const Joint& mj = x.joint(x.string(*js->get(i), k, "the name of a joint"), k);
+    const std::string dof = ds ? x.string(*ds->get(i), dk, "a coordinate name, \"rotation\", \"translation\" or \"\"") : "";
+    const std::string id = mj.name + "/" + dof;
+    if (std::find(seen.begin(), seen.end(), id) != seen.end()) x.fail(k, "each motion once, got '" + mj.name + "' again");
+    seen.push_back(id);
+    ms.push_back(joint_motion(x, mj, dof, k, dk));
+    names.push_back(dof.empty() ? mj.name : mj.name + "_" + dof);
+    ratios.push_back(x.expression(*rs->get(i), j.key + ".ratios[" + std::to_string(i) + "]"));
+    holonomic = holonomic && !ms.back().position.empty();
+  }
+  Row r;
+  r.name = j.name;
+  if (holonomic) {
+    std::vector<Expr> terms;
+    for (std::size_t i = 0; i < ms.size(); ++i) terms.push_back(mul(ratios[i], ms[i].position));
+    r.holonomic = sum(terms);
+    r.from_initial = true;
+  } else {
+    r.velocity_form = true;
+    for (std::size_t i = 0; i < ms.size(); ++i) r.velocity = add(r.velocity, scale(ratios[i], ms[i].rate));
+  }
+  if (is_zero(r.holonomic) && !r.velocity_form) x.fail(j.key + ".ratios", "coefficients that are not all zero");
+  j.rows.push_back(r);
+  for (std::size_t i = 0; i < ms.size(); ++i)
+    j.member_reactions.push_back({std::string(ms[i].rotation ? "M_" : "F_") + j.name + "_" + names[i],
+                                  mul(ratios[i], "lambda_" + r.name)});
 }
 
 void Rolling::rows(Expander& x, Joint& j) const {
@@ -1335,27 +1506,17 @@ class JointSpringDamper : public ForceType {
     const toml::node* jn = t.get("joint");
     if (!jn) x.fail(key + ".joint", "the joint the spring-damper acts on");
     const Joint& j = x.joint(x.string(*jn, key + ".joint", "a joint name"), key + ".joint");
-    Expr q;
-    Lin rate;
-    if (!j.coordinates.empty()) {
-      std::string c = j.coordinates[0];
-      if (auto cn = t.get("coordinate")) {
-        c = x.string(*cn, key + ".coordinate", "one of the joint's coordinates");
-        if (std::find(j.coordinates.begin(), j.coordinates.end(), c) == j.coordinates.end())
-          x.fail(key + ".coordinate", "one of the joint's coordinates (" + join(j.coordinates) + "), got '" + c + "'");
-      }
-      q = c;
-      rate = velocity_of(c);
-    } else if (j.type == "revolute") {
-      const Body& b1 = x.body(j.body1, key);
-      const Body& b2 = x.body(j.body2, key);
-      q = relative_angle(x, b1, x.marker(b1, j.marker1, key), b2, x.marker(b2, j.marker2, key));
-      rate = relative_rate(b1, b2);
-    } else {
-      x.fail(key + ".joint", "a joint with coordinates, or a revolute joint, got '" + j.name + "' (" + j.type + ")");
-    }
+    // A tree joint's coordinate (default its first), or the motion of a revolute, prismatic or
+    // cylindrical joint written as rows (`coordinate` = "rotation" / "translation").
+    std::string dof = j.coordinates.empty() ? "" : j.coordinates[0];
+    if (auto cn = t.get("coordinate")) dof = x.string(*cn, key + ".coordinate", "one of the joint's coordinates");
+    const JointMotion m = joint_motion(x, j, dof, key + ".joint", key + ".coordinate");
+    const Expr q = m.position;
+    const Lin rate = m.rate;
     const Expr k = x.optional(t, key, "stiffness"), r = x.optional(t, key, "rest"), c = x.optional(t, key, "damping");
     if (k.empty() && c.empty()) x.fail(key + ".stiffness", "a stiffness or a damping (expressions)");
+    if (!k.empty() && q.empty())
+      x.fail(key + ".stiffness", "no stiffness on the joint '" + j.name + "': the angle of a spatial revolute (cylindrical) joint written as rows is not a function of the coordinates, only its rate is (a damping is accepted); place the body by the joint (coordinates = [\"angle\"]), or use a bushing");
     if (!k.empty()) x.add_potential(mul(mul("1/2", k), "(" + sub(q, r.empty() ? "0" : r) + ")^2"));
     if (!c.empty()) x.add_dissipation(mul(mul("1/2", c), "(" + rate.text() + ")^2"));
   }
@@ -1419,6 +1580,7 @@ void register_planar(Registry& r) {
   joint(std::make_shared<PointOnLine>());
   joint(std::make_shared<Drive>());
   joint(std::make_shared<Gear>());
+  joint(std::make_shared<Coupler>());
   joint(std::make_shared<Rolling>());
   force(std::make_shared<Gravity>());
   force(std::make_shared<SpringDamper>());
@@ -1698,7 +1860,7 @@ void Expander::run() {
           fail(key + "." + kk, "unknown key (expected one of: " + join(allowed) + ")");
         }
       }
-      const bool needs_bodies = j.type != "drive" && j.type != "gear";
+      const bool needs_bodies = j.type != "drive" && j.type != "gear" && j.type != "coupler";
       j.body1 = "ground";
       if (auto b = t->get("body1")) j.body1 = string(*b, key + ".body1", "a body name");
       if (auto m = t->get("marker1")) j.marker1 = string(*m, key + ".marker1", "a marker name");
@@ -1806,7 +1968,7 @@ void Expander::run() {
     if (spatial && sit != reg.spatial_joints.end()) type = sit->second.get();
     else if (it != reg.joints.end()) type = it->second.get();
     else type = sit->second.get();
-    if (j.type != "drive" && j.type != "gear") {
+    if (j.type != "drive" && j.type != "gear" && j.type != "coupler") {
       const Body& b1 = body(j.body1, j.key);
       j.axes = marker_axes(b1, *b1.marker(j.marker1));
       if (j.type == "revolute" || j.type == "fixed")
@@ -1945,6 +2107,8 @@ void Expander::finish() {
   }
   if (I.reactions == "none") return;
   for (const Joint& j : I.joints) {
+    for (const auto& [column, value] : j.member_reactions)  // a coupler's, per member
+      add_output(column, define(j.name + "_" + column.substr(0, 1) + "_" + column.substr(j.name.size() + 3), value, j.key), j.key);
     if (!j.has_reaction) continue;
     const std::string key = j.key;
     Vec3 F = j.force, M = j.moment;

@@ -25,6 +25,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -206,7 +207,27 @@ struct Joint {
   bool has_reaction = false;
   Mat3 axes;  ///< the joint frame -> ground (for reactions in ground); marker1's axes by default
   bool planar = true;  ///< both bodies planar: only F_x, F_y, M_z are reported
+  /// Scalar reactions besides F and M, as (column, expression): a coupler's torque or force on
+  /// each member joint's motion (columns M_<coupler>_<member> or F_<coupler>_<member>).
+  std::vector<std::pair<std::string, Expr>> member_reactions;
 };
+
+/// One motion of a joint, as gears, couplers and joint spring-dampers see it: a tree joint's
+/// coordinate, or the relative rotation about (translation along) the axis of a revolute,
+/// prismatic or cylindrical joint written as rows.
+struct JointMotion {
+  Expr position;  ///< the displacement as an expression of q; "" when none exists (a spatial
+                  ///< rotation written as rows: its angle is not a function of q, only its rate)
+  Lin rate;       ///< its rate, linear in q_d
+  bool rotation = false;  ///< an angle (rad; its force is a torque) or a travel (m)
+  bool planar = true;     ///< the joint is planar (its reactions: F_x, F_y, M_z)
+  Mat3 axes;              ///< the joint frame (marker1's axes) -> ground
+  int axis = 2;           ///< the motion's axis in that frame: z for a rotation, x or z a travel
+};
+/// The motion `dof` of joint j ("" = its only motion; a tree joint's coordinate name; a
+/// cylindrical joint's "rotation" or "translation"); failures name `key` (and `dof_key`).
+JointMotion joint_motion(Expander& x, const Joint& j, const std::string& dof, const std::string& key,
+                         const std::string& dof_key);
 
 /// A joint type: revolute, prismatic, fixed, distance, point_on_line, drive, gear, rolling, ...
 class JointType {
