@@ -17,9 +17,9 @@
 #include <toml++/toml.h>
 
 #include "animate/scene.hpp"
-#include "../support/build_tree.hpp"
 #include "animate/video.hpp"
 #include "animate_util.hpp"
+#include "../support/build_tree.hpp"
 
 using namespace animate_test;
 namespace fs = std::filesystem;

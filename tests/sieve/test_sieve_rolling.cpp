@@ -16,12 +16,12 @@
 #include <nlohmann/json.hpp>
 
 #include <unistd.h>
-#include "../support/build_tree.hpp"
 
 #include "csv_util.hpp"
-#include "sim/case.hpp"
 #include "register.hpp"
+#include "sim/case.hpp"
 #include "sim/run.hpp"
+#include "../support/build_tree.hpp"
 
 using namespace pcsim;
 using namespace pcsim::sieve;
@@ -33,8 +33,9 @@ namespace {
 
 const fs::path kCase = fs::path(PCSIM_SOURCE_DIR) / "cases" / "sieve_1995.toml";
 
-// The paper's whole run (10 s) in Release; in Debug (sanitizers, -O0, about 30x slower) the
-// first 0.5 s, which holds the start-up transient, where the velocities are largest.
+// The paper's whole run (10 s) in Release; under the sanitizers (pcsim's code at -O1, about 30x
+// slower) or at -O0 the first 0.5 s, which holds the start-up transient, where the velocities
+// are largest.
 const char* const kTEnd = pcsim_test::slow_build() ? "0.5" : "10";
 
 struct Run {

@@ -1,7 +1,10 @@
-// The build tree a test runs from, read at run time from PCSIM_BINARY_DIR (CTest sets it for every
-// test; see pcsim_boost_tests in cmake/pcsim_helpers.cmake). It is not compiled in: a test's
-// command line is then the same in every build tree, so the compiler cache (ccache, in CI) serves
-// the later builds the objects of the Release build.
+// What a test asks of the build it runs in, at run time rather than by macros:
+// - binary_dir(): the build tree, from PCSIM_BINARY_DIR (CTest sets it for every test; see
+//   pcsim_boost_tests in cmake/pcsim_helpers.cmake). It is not compiled in: a test's command
+//   line is then the same in every build tree, so the compiler cache (ccache, in CI) serves the
+//   later builds the objects of the Release build;
+// - sanitized(), slow_build(): whether pcsim runs under the sanitizers (or the tests at -O0),
+//   for the tests that size their work to the build.
 #pragma once
 
 #include <dlfcn.h>
