@@ -8,6 +8,8 @@
 // - each spatial joint type removes exactly the relative motions its definition says (the
 //   twists of the joint frame: allowed ones satisfy every row, each forbidden one violates one),
 //   with the rank of its rows;
+// - a wheel on an accelerating deck rolls, relative to the deck, as on a fixed plane under the
+//   gravity of the deck's frame (the wheel joint's moving-plane rows);
 // - inertia tensors that are not symmetric or not positive definite are rejected naming the key;
 // - the Whipple bicycle as bodies (models/whipple_bodies.toml) conserves energy in a nonlinear
 //   run and, between its weave and capsize speeds, rights itself after a push in roll, while
@@ -79,6 +81,12 @@ std::vector<std::string> all_names(const mech::Model& m) {
   std::vector<std::string> r;
   for (const auto& c : m.constraints()) r.push_back(c.name);
   return r;
+}
+int index_of_name(const std::vector<std::string>& names, const std::string& name) {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<int>(i);
+  BOOST_FAIL("no coordinate " << name);
+  return -1;
 }
 int output_index(const ModelDescription& d, const std::string& name) {
   for (std::size_t i = 0; i < d.outputs().size(); ++i)
@@ -325,6 +333,154 @@ BOOST_AUTO_TEST_CASE(each_spatial_joint_removes_exactly_its_relative_motions) {
 }
 
 // Bad inertia tensors: the error names the key and says what was expected.
+namespace {
+
+// A coin rolling on a deck that a drive moves along ground x with constant acceleration A (the
+// deck: a spatial body on prismatic rows, the drive prescribing its travel A t^2/2); and the
+// same coin on a fixed plane under the gravity the deck's frame feels, (-A, 0, -g).
+const char* kCoinOnDeck = R"(
+[model]
+name = "coin_on_deck"
+[model.parameters]
+coin_m = 0.1
+r = 0.05
+g = 9.81
+A = 1.5
+X0 = 700.0
+Y0 = -400.0
+Z0 = 30.0
+[model.body.ground.markers]
+rail = { at = ["X0", "Y0", "Z0"], axis = [0, 1, 0], angle = "pi/2" }
+[model.body.deck]
+kind = "spatial"
+mass = 5.0
+inertia = [0.4, 0.5, 0.6]
+markers.rail = { at = [0, 0, 0], axis = [0, 1, 0], angle = "pi/2" }
+markers.plane = [0, 0, 0]
+[model.joint.slide]
+type = "prismatic"
+marker1 = "rail"
+body2 = "deck"
+marker2 = "rail"
+[model.joint.motor]
+type = "drive"
+joint = "slide"
+motion = "A*t^2/2"
+[model.body.coin]
+kind = "spatial"
+mass = "coin_m"
+inertia = ["coin_m*r^2/4", "coin_m*r^2/4", "coin_m*r^2/2"]
+[model.joint.roll]
+type = "wheel"
+body1 = "deck"
+marker1 = "plane"
+body2 = "coin"
+radius = "r"
+[model.force.gravity]
+type = "gravity"
+g = [0, 0, "-g"]
+)";
+
+const char* kCoinTiltedGravity = R"(
+[model]
+name = "coin_tilted_gravity"
+[model.parameters]
+coin_m = 0.1
+r = 0.05
+g = 9.81
+A = 1.5
+X0 = 700.0
+Y0 = -400.0
+Z0 = 30.0
+[model.body.ground.markers]
+plane = ["X0", "Y0", "Z0"]
+[model.body.coin]
+kind = "spatial"
+mass = "coin_m"
+inertia = ["coin_m*r^2/4", "coin_m*r^2/4", "coin_m*r^2/2"]
+[model.joint.roll]
+type = "wheel"
+marker1 = "plane"
+body2 = "coin"
+radius = "r"
+[model.force.gravity]
+type = "gravity"
+g = ["-A", 0, "-g"]
+)";
+
+}  // namespace
+
+// The wheel joint on a moving body's plane (its rows subtract the deck's velocity at the
+// contact): in the deck's frame, accelerating at A, the coin moves as on a fixed plane under
+// the gravity (-A, 0, -g) (the d'Alembert force -m A), and the contact force, a real force, is
+// the same. Both models start with the coin leaning and rolling (models/rolling_coin.toml's
+// initial state), the deck at rest, 800 m from the origin; over 2 s (the deck travels 3 m)
+// the coin's position relative to the deck, its Euler parameters and F_roll agree to 1e-7.
+BOOST_AUTO_TEST_CASE(wheel_on_an_accelerating_deck_rolls_as_on_a_plane_under_tilted_gravity) {
+  const double A = 1.5, t_end = 2.0, dt = 0.05;
+  const Vector3d P0(700.0, -400.0, 30.0);
+  // rolling_coin.toml's initial state, relative to the plane's marker.
+  Eigen::VectorXd c(7), cd(7);
+  c << 0.0, 0.014776010333066978, 0.047766824456280305, 0.5934980174097721, -0.8048354510896434, 0, 0;
+  cd << 1.0032805345291167, 0, 0, 0, 0, 7.505907072219713, 6.72586112150093;
+  c.head<3>() += P0;
+  struct Trace {
+    std::vector<Eigen::VectorXd> coin;  // x y z (relative to the plane's marker) e0..e3
+    std::vector<Vector3d> F;
+  };
+  auto run = [&](const char* text, const char* name, bool deck) {
+    const auto desc = load_model_text(text, name);
+    const auto& names = desc->coordinates();
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<int>(names.size())), qd = q;
+    const int ic = index_of_name(names, "coin_x");
+    q.segment<7>(ic) = c;
+    qd.segment<7>(ic) = cd;
+    if (deck) {
+      q.segment<3>(index_of_name(names, "deck_x")) = P0;
+      q[index_of_name(names, "deck_e0")] = 1.0;
+    }
+    const auto model = desc->instantiate({}, q);
+    const int iF = output_index(*desc, "F_roll_x");
+    mech::SimulationOptions o;
+    o.t_end = t_end;
+    o.rtol = 1e-10;
+    o.atol = 1e-12;
+    o.kernel = Kernel::cpp;
+    o.active_constraints = all_names(*model);
+    Trace tr;
+    int next = 0;
+    const auto r = mech::simulate(*model, q, qd, o, [&](const mech::StepView& v) {
+      while (next * dt <= v.t + 1e-12) {
+        const mech::Sample s = v.sample(std::max(v.t_prev, next * dt));
+        Eigen::VectorXd x = s.q.segment<7>(ic);
+        x.head<3>() -= P0 + (deck ? Vector3d(0.5 * A * s.t * s.t, 0, 0) : Vector3d::Zero());
+        tr.coin.push_back(x);
+        tr.F.push_back(s.derived.segment<3>(iF));
+        ++next;
+      }
+      return true;
+    });
+    BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+    return tr;
+  };
+  const Trace moving = run(kCoinOnDeck, "coin_on_deck.toml", true);
+  const Trace fixed = run(kCoinTiltedGravity, "coin_tilted_gravity.toml", false);
+  BOOST_REQUIRE(moving.coin.size() == fixed.coin.size());
+  BOOST_REQUIRE(moving.coin.size() == 41u);
+  double err_q = 0, err_F = 0, drift = 0, F_max = 0;
+  for (std::size_t k = 0; k < moving.coin.size(); ++k) {
+    err_q = std::max(err_q, (moving.coin[k] - fixed.coin[k]).cwiseAbs().maxCoeff());
+    err_F = std::max(err_F, (moving.F[k] - fixed.F[k]).cwiseAbs().maxCoeff());
+    F_max = std::max(F_max, fixed.F[k].cwiseAbs().maxCoeff());
+    drift = std::max(drift, (fixed.coin[k].head<3>() - fixed.coin[0].head<3>()).norm());
+  }
+  BOOST_TEST_MESSAGE("coin on an accelerating deck vs tilted gravity: |q difference| " << err_q << ", |F_roll difference| "
+                     << err_F << " N (of " << F_max << "); the coin moves " << drift << " m on the plane");
+  BOOST_TEST(drift > 0.5);  // it rolls, and the tilted gravity shows
+  BOOST_TEST(err_q < 1e-7);
+  BOOST_TEST(err_F < 1e-7 * F_max);
+}
+
 BOOST_AUTO_TEST_CASE(bad_inertia_tensors_are_rejected_naming_the_key) {
   auto load = [](const std::string& inertia) {
     return input_error_of([&] {
