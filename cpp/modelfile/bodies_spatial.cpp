@@ -424,7 +424,7 @@ class SpatialWheel : public JointType {
  public:
   std::string name() const override { return "wheel"; }
   std::vector<std::string> extra_keys() const override {
-    std::vector<std::string> k{"radius", "no_slip"};
+    std::vector<std::string> k{"radius", "no_slip", "surface", "sphere_radius", "inside"};
     for (const auto& c : contact_keys()) k.push_back(c);
     return k;
   }
@@ -442,6 +442,14 @@ class SpatialWheel : public JointType {
                  "frictionless disk on the plane, which takes unilateral and restitution");
     const Frames f = frames(x, j);
     const Expr r = x.required(*j.table, j.key, "radius", "the wheel's radius (an expression)");
+    std::string surface = "plane";
+    if (const toml::node* sf = j.table->get("surface"))
+      surface = x.string(*sf, j.key + ".surface", "\"plane\" or \"sphere\"");
+    if (surface == "sphere") return sphere_rows(x, j, f, r, no_slip);
+    if (surface != "plane")
+      x.fail(j.key + ".surface", "\"plane\" (default: marker1's x-y plane) or \"sphere\" (centred at marker1, radius sphere_radius), got '" + surface + "'");
+    for (const char* k : {"sphere_radius", "inside"})
+      if (j.table->get(k)) x.fail(j.key + "." + k, "no " + std::string(k) + " on a wheel on a plane (surface = \"sphere\" takes it)");
     const Vec3 n = column(f.E1, 2), a = column(f.E2, 2);
     const Vec3 c = cross(n, a);
     const std::string pre = j.name + "_";
@@ -483,6 +491,83 @@ class SpatialWheel : public JointType {
       F = add(F, scale(lam(rt), column(f.E1, i)));
     }
     // The force acts at the contact point: its moment about the wheel's centre is ρ × F.
+    set_reaction(j, f, F, cross(rho, F));
+  }
+
+ private:
+  // On a sphere of body1 (centre marker1, radius R), outside (default) or inside (`inside =
+  // true`, a wheel in a spherical bowl). With d = C − S (the wheel's centre from the sphere's)
+  // and d_p = d − (d·a) a its part in the wheel's plane (σ = |d_p|), the contact is the rim
+  // point nearest to S (outside: ρ = −r d_p/σ) or farthest (inside: ρ = +r d_p/σ); the row n
+  // is |d + ρ| − R (outside) or R − |d + ρ| (inside): a distance, its multiplier the normal
+  // force, acting along ν = ±(d + ρ)/|d + ρ| on the wheel (the rim is tangent to the sphere at
+  // the contact, so the selection of the rim point does not enter the row's gradient). The
+  // no-slip rows x, y (velocity form): the wheel's material point at the contact has no velocity
+  // relative to body1's along t1 = a × ρ / r (the rim's tangent, the rolling direction) and
+  // t2 = ν × t1. Singular where S lies on the wheel's axis (σ = 0), as the plane's flat coin.
+  static void sphere_rows(Expander& x, Joint& j, const Frames& f, const Expr& r, bool no_slip) {
+    const Expr R = x.required(*j.table, j.key, "sphere_radius", "the sphere's radius (an expression; the sphere is centred at marker1)");
+    bool inside = false;
+    if (const toml::node* in = j.table->get("inside")) inside = x.boolean(*in, j.key + ".inside");
+    // Every intermediate vector is a named definition: written inline, the sums GiNaC
+    // reorders survive into the tape, which then differs from load to load
+    // (test_modelfile_evaluation_order).
+    const std::string pre = j.name + "_";
+    auto named = [&](const std::string& stem, const Vec3& v) {
+      Vec3 out;
+      for (int i = 0; i < 3; ++i) out[i] = x.define(pre + stem + "xyz"[i], v[i], j.key);
+      return out;
+    };
+    const Vec3 a = named("a", column(f.E2, 2));
+    const Vec3 d = named("d", f.d);
+    const Expr da = x.define(pre + "da", dot(d, a), j.key);
+    Vec3 dp0;
+    for (int i = 0; i < 3; ++i) dp0[i] = sub(d[i], mul(da, a[i]));
+    const Vec3 dp = named("dp", dp0);
+    const Expr sigma = x.define(pre + "sigma", "sqrt(" + dot(dp, dp) + ")", j.key);
+    Vec3 rho, ps0;
+    for (int i = 0; i < 3; ++i) {
+      const Expr comp = (inside ? "" : "-") + paren(r) + "*" + dp[i] + "/" + sigma;
+      rho[i] = x.define(pre + "rho" + "xyz"[i], comp, j.key);
+      ps0[i] = add(d[i], rho[i]);  // the contact point from the sphere's centre
+    }
+    const Vec3 ps = named("p", ps0);
+    const Expr dist = x.define(pre + "dist", "sqrt(" + dot(ps, ps) + ")", j.key);
+    Vec3 nu;  // the normal force's direction on the wheel
+    for (int i = 0; i < 3; ++i)
+      nu[i] = x.define(pre + "nu" + "xyz"[i], (inside ? "-" : "") + ps[i] + "/" + dist, j.key);
+    Row rn;
+    rn.name = pre + "n";
+    rn.holonomic = inside ? sub(R, dist) : sub(dist, R);
+    if (has_contact_keys(j))
+      read_joint_contact(x, j, rn, nullptr,
+                         "no friction on a wheel: a spatial contact slips in the plane, so Coulomb's "
+                         "law needs two friction rows at one contact (a 2-D cone), and the switching "
+                         "engine carries one friction row per contact (docs/switching.md)");
+    j.rows.push_back(rn);
+    Vec3 F = scale(lam(rn), nu);
+    if (no_slip) {
+      Vec3 t1, t2;
+      const Vec3 c1 = cross(a, rho);
+      for (int i = 0; i < 3; ++i) t1[i] = x.define(pre + "t1" + "xyz"[i], paren(c1[i]) + "/" + paren(r), j.key);
+      const Vec3 c2 = cross(nu, t1);
+      for (int i = 0; i < 3; ++i) t2[i] = x.define(pre + "t2" + "xyz"[i], c2[i], j.key);
+      const Vec3 P = add(f.P2, rho);
+      LinVec3 vrel = x.point_velocity(*f.b2, P);
+      if (!f.b1->ground) {
+        const LinVec3 v1 = x.point_velocity(*f.b1, P);
+        for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
+      }
+      const Vec3* t[2] = {&t1, &t2};
+      for (int i = 0; i < 2; ++i) {
+        Row rt;
+        rt.name = pre + std::string(i == 0 ? "x" : "y");
+        rt.velocity_form = true;
+        rt.velocity = dot(*t[i], vrel);
+        j.rows.push_back(rt);
+        F = add(F, scale(lam(rt), *t[i]));
+      }
+    }
     set_reaction(j, f, F, cross(rho, F));
   }
 };

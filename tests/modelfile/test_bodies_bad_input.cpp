@@ -202,6 +202,12 @@ BOOST_AUTO_TEST_CASE(restitution_or_friction_without_a_unilateral_gap_row_is_ref
   // Issue 22 (WHL): a wheel's contact keys, each refused by name with the reason.
   const std::string wheel = kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nradius = 0.3\n";
   expect_error(wheel + "restitution = 0.5\n", {"m.toml", "model.joint.w.restitution", "rolling wheel", "2-D Coulomb cone"});
+  // The surface a wheel rolls on (docs/bodies-spatial.md "Joints").
+  expect_error(wheel + "surface = \"cylinder\"\n", {"m.toml", "model.joint.w.surface", "\"plane\"", "\"sphere\"", "got 'cylinder'"});
+  expect_error(wheel + "surface = \"sphere\"\n", {"m.toml", "model.joint.w.sphere_radius", "the sphere's radius"});
+  expect_error(wheel + "sphere_radius = 2.0\n", {"m.toml", "model.joint.w.sphere_radius", "surface = \"sphere\""});
+  expect_error(wheel + "inside = true\n", {"m.toml", "model.joint.w.inside", "surface = \"sphere\""});
+  expect_error(wheel + "surface = \"sphere\"\nsphere_radius = 2.0\ninside = 1\n", {"m.toml", "model.joint.w.inside"});
   expect_error(wheel + "no_slip = false\nunilateral = true\nmu_static = 0.3\n",
                {"m.toml", "model.joint.w.mu_static", "no friction on a wheel", "two friction rows", "one friction row per contact"});
   expect_error(wheel + "no_slip = false\nunilateral = true\nmu_static = 0.3\nmu_kinetic = 0.2\n",
