@@ -1154,6 +1154,9 @@ void Drive::rows(Expander& x, Joint& j) const {
   j.has_reaction = true;
 }
 
+// Two members that are the same motion have the same displacement (or rate) text.
+std::string motion_id(const JointMotion& m) { return m.position.empty() ? m.rate.text() : m.position; }
+
 // The gear's row couples joint2's motion to joint1's: holonomic, c2 − ratio·c1 fixed at the
 // initial state, when both displacements are functions of q (tree coordinates, planar joints
 // written as rows, translations); in velocity form, ċ2 − ratio·ċ1 = 0, when either is a
@@ -1168,11 +1171,11 @@ void Gear::rows(Expander& x, Joint& j) const {
     const Joint& mj = x.joint(x.string(*n, j.key + "." + k, "the name of a joint"), j.key + "." + k);
     std::string dof;
     if (const toml::node* d = t.get(dk)) dof = x.string(*d, j.key + "." + dk, "a coordinate name, or \"rotation\" / \"translation\"");
-    return std::make_pair(mj.name + "/" + dof, joint_motion(x, mj, dof, j.key + "." + k, j.key + "." + dk));
+    return joint_motion(x, mj, dof, j.key + "." + k, j.key + "." + dk);
   };
-  const auto [n1, c1] = member("joint1", "dof1");
-  const auto [n2, c2] = member("joint2", "dof2");
-  if (n1 == n2) x.fail(j.key + ".joint2", "a motion other than joint1's (a gear couples two motions)");
+  const JointMotion c1 = member("joint1", "dof1");
+  const JointMotion c2 = member("joint2", "dof2");
+  if (motion_id(c1) == motion_id(c2)) x.fail(j.key + ".joint2", "a motion other than joint1's (a gear couples two motions)");
   const Expr ratio = x.required(t, j.key, "ratio", "the ratio: coordinate2 = ratio * coordinate1 (+ its initial offset)");
   Row r;
   r.name = j.name;
@@ -1215,10 +1218,10 @@ void Coupler::rows(Expander& x, Joint& j) const {
     const std::string dk = j.key + ".dofs[" + std::to_string(i) + "]";
     const Joint& mj = x.joint(x.string(*js->get(i), k, "the name of a joint"), k);
     const std::string dof = ds ? x.string(*ds->get(i), dk, "a coordinate name, \"rotation\", \"translation\" or \"\"") : "";
-    const std::string id = mj.name + "/" + dof;
+    ms.push_back(joint_motion(x, mj, dof, k, dk));
+    const std::string id = motion_id(ms.back());
     if (std::find(seen.begin(), seen.end(), id) != seen.end()) x.fail(k, "each motion once, got '" + mj.name + "' again");
     seen.push_back(id);
-    ms.push_back(joint_motion(x, mj, dof, k, dk));
     names.push_back(dof.empty() ? mj.name : mj.name + "_" + dof);
     ratios.push_back(x.expression(*rs->get(i), j.key + ".ratios[" + std::to_string(i) + "]"));
     holonomic = holonomic && !ms.back().position.empty();

@@ -375,6 +375,58 @@ class SpatialRevolute : public JointType {
   }
 };
 
+// Prismatic joint: marker2's origin on marker1's z axis, the frames parallel (rows <joint>_x,
+// _y, _ax, _ay, _az); as a tree joint (`coordinates = ["travel"]`) it places body2 by the travel
+// of marker2's origin along marker1's z axis, marker2's frame parallel to marker1's (no rows, no
+// Euler parameters for body2: a slider on its guide).
+class SpatialPrismatic : public JointType {
+ public:
+  std::string name() const override { return "prismatic"; }
+  int tree_coordinates(bool) const override { return 1; }
+  void rows(Expander& x, Joint& j) const override { pair_rows(x, j, {true, true, false, true, true}); }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    const Body& b1 = x.body(j.body1, j.key + ".body1");
+    const Body& b2 = x.body(j.body2, j.key + ".body2");
+    const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
+    const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
+    if (j.coordinates.size() != 1 || j.coordinates[0].empty())
+      x.fail(j.key + ".coordinates", "one coordinate name, the joint's travel (a prismatic tree joint)");
+    const std::string s = j.coordinates[0];
+    Mat3 R2t;  // R2ᵀ
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) R2t.m[a][c] = m2.R.m[c][a];
+    const Mat3 Arel = multiply(m1.R, R2t);
+    const Mat3 A2t = multiply(b1.pose.A, Arel);
+    Pose p;
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) p.A.m[a][c] = x.define(a_name(b2, a, c), A2t.m[a][c], j.key);
+    const Vec3 z1 = column(m1.R, 2);  // the guide's direction in body1's frame
+    // body2's origin in body1's frame: marker1's origin + s z1 − Arel (marker2's position)
+    const Vec3 rel_r = sub(add(m1.p, scale(s, z1)), apply(Arel, m2.p));
+    const Vec3 r2 = add(b1.pose.r, apply(b1.pose.A, rel_r));
+    for (int a = 0; a < 3; ++a) p.r[a] = x.define(b2.name + "_" + "xyz"[a], r2[a], j.key);
+    LinVec3 vrel;  // ṡ z1, body1's components
+    for (int a = 0; a < 3; ++a) vrel[a] = scale(z1[a], velocity_of(s));
+    p.w = b1.pose.w;
+    p.w_body = apply_transposed(Arel, b1.pose.w_body);
+    p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, rel_r))), apply(b1.pose.A, vrel));
+    // ω'2 = Arelᵀ ω'1, written in body1's named rates (body1 spatial) for a short T.
+    std::array<Expr, 3> wt;
+    const bool named = !b1.ground && !x.kind(b1).planar();
+    for (int i = 0; i < 3; ++i) {
+      std::vector<Expr> terms;
+      if (named)
+        for (int k = 0; k < 3; ++k) terms.push_back(mul(Arel.m[k][i], b1.name + "_w" + std::to_string(k + 1)));
+      wt[static_cast<std::size_t>(i)] = terms.empty() ? Expr("0") : sum(terms);
+    }
+    define_rates(x, b2, p, j.key, (named || b1.ground) ? &wt : nullptr);
+    rel.A = Arel;
+    rel.r = rel_r;
+    rel.v = vrel;
+    return p;
+  }
+};
+
 // Universal joint: the markers coincide; the cross's arms are marker1's x axis (on body1) and
 // marker2's y axis (on body2), kept perpendicular (row <joint>_cross: u1 · v2 = 0).
 class SpatialUniversal : public JointType {
@@ -624,7 +676,7 @@ void register_spatial_bodies() {
   register_joint_type(std::make_shared<SpatialUniversal>());
   register_joint_type(std::make_shared<SpatialWheel>());
   register_spatial_joint_type(std::make_shared<SpatialRevolute>());
-  register_spatial_joint_type(std::make_shared<SpatialPair<true, true, false, true, true>>("prismatic"));
+  register_spatial_joint_type(std::make_shared<SpatialPrismatic>());
   register_spatial_joint_type(std::make_shared<SpatialPair<true, true, true, true, true>>("fixed"));
   register_spatial_joint_type(std::make_shared<SpatialPair<false, false, true, true, false>>("planar"));
   register_spatial_joint_type(std::make_shared<SpatialPointOnLine>());

@@ -122,6 +122,12 @@ std::vector<std::pair<std::string, std::string>> angular_velocity_keys(const Eul
           {b.name + "_wx", "ground x axis"}, {b.name + "_wy", "ground y axis"}, {b.name + "_wz", "ground z axis"}};
 }
 
+// The initial orientation keys of a spatial body with Euler parameters: NAME_rx..rz, the
+// rotation vector (axis times angle, ground axes) that turns ground's axes onto the body's.
+std::vector<std::string> rotation_vector_keys(const EulerBody& b) {
+  return {b.name + "_rx", b.name + "_ry", b.name + "_rz"};
+}
+
 const KeySpec* find(const std::vector<KeySpec>& keys, const std::string& dotted);
 
 // The model's keys (parameters, initial values, constraints) between the common keys of the
@@ -142,6 +148,19 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   for (const auto& c : m.coordinates()) {
     keys.push_back(number_key("initial", c, "initial " + c, std::nullopt));
     keys.push_back(number_key("initial", c + "_d", "initial velocity of " + c, std::nullopt));
+  }
+  // A spatial body's initial orientation as a rotation vector (issue 22), instead of its Euler
+  // parameters.
+  for (const auto& b : m.euler_bodies()) {
+    const char* axis[3] = {"x", "y", "z"};
+    int i = 0;
+    for (const auto& name : rotation_vector_keys(b))
+      if (!find(keys, "initial." + name))
+        keys.push_back(number_key("initial", name,
+                                  "initial orientation of body " + b.name +
+                                      ": the rotation vector's ground-" + axis[i++] +
+                                      " component (axis times angle), rad",
+                                  std::nullopt));
   }
   // A spatial body's initial angular velocity (issue 22), instead of its Euler-parameter rates.
   for (const auto& b : m.euler_bodies())
@@ -471,7 +490,17 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
            "either the angular velocity of body " + b.name + " (" + (body_key.empty() ? ground_key : body_key) +
                ") or the rates of its Euler parameters (" + b.e[0] + "_d.." + b.e[3] +
                "_d), not both (the angular velocity sets those rates)");
-    if (!(body_key.empty() && ground_key.empty())) {
+    std::string rot_key, e_key;
+    for (const auto& k : rotation_vector_keys(b))
+      if (rot_key.empty() && t["initial"][k] && r.model->coordinate_index(k) < 0) rot_key = "initial." + k;
+    for (const auto& e : b.e)
+      if (e_key.empty() && t["initial"][e]) e_key = "initial." + e;
+    if (!rot_key.empty() && !e_key.empty())
+      fail(file, e_key,
+           "either the orientation of body " + b.name + " as a rotation vector (" + rot_key +
+               ") or its Euler parameters (" + b.e[0] + ".." + b.e[3] +
+               "), not both (the rotation vector sets them)");
+    if (!(body_key.empty() && ground_key.empty()) && rot_key.empty()) {
       double n2 = 0.0;
       for (const auto& e : b.e) n2 += std::pow(t["initial"][e].value_or(0.0), 2);
       if (!(n2 > 1e-12))
@@ -727,6 +756,27 @@ Setup setup_of(const Case& c) {
     const std::string& name = m.coordinates()[i];
     s.q0[i] = t["initial"][name].value_or(0.0);
     s.qd0[i] = t["initial"][name + "_d"].value_or(0.0);
+  }
+  // A spatial body's initial orientation as a rotation vector r = χ u (ground axes) gives its
+  // Euler parameters e = (cos χ/2, u sin χ/2) (fill_and_validate refused it with explicit e).
+  for (const auto& b : m.euler_bodies()) {
+    Eigen::Vector3d rv = Eigen::Vector3d::Zero();
+    bool given = false;
+    const auto keys = rotation_vector_keys(b);
+    for (int i = 0; i < 3; ++i)
+      if (auto v = t["initial"][keys[static_cast<std::size_t>(i)]].value<double>();
+          v && m.coordinate_index(keys[static_cast<std::size_t>(i)]) < 0) {
+        rv[i] = *v;
+        given = true;
+      }
+    if (!given) continue;
+    const double chi = rv.norm();
+    Eigen::Vector4d e(1.0, 0.0, 0.0, 0.0);
+    if (chi > 0) {
+      e[0] = std::cos(chi / 2);
+      e.tail<3>() = std::sin(chi / 2) / chi * rv;
+    }
+    for (int k = 0; k < 4; ++k) s.q0[m.coordinate_index(b.e[static_cast<std::size_t>(k)])] = e[k];
   }
   // A spatial body's initial angular velocity ω' (body axes) or ω (ground axes) gives the rates
   // of its Euler parameters ė = ½ Gᵀ ω' = ½ Eᵀ ω at the (normalized) initial e

@@ -447,6 +447,7 @@ BOOST_AUTO_TEST_CASE(bad_gears_and_couplers_are_rejected_naming_the_key) {
        {"model.joint.mesh.joint2", "revolute, prismatic or cylindrical", "'bearB' (spherical)"}},
       {replace(bevel, "joint2 = \"bearB\"", "joint2 = \"nowhere\""), {"model.joint.mesh.joint2", "nowhere", "bearA"}},
       {replace(bevel, "joint2 = \"bearB\"", "joint2 = \"bearA\""), {"model.joint.mesh.joint2", "other than joint1"}},
+      {replace(bevel, "joint2 = \"bearB\"", "joint2 = \"bearA\"\ndof2 = \"rotation\""), {"model.joint.mesh.joint2", "other than joint1"}},
       {replace(bevel, "joint2 = \"bearB\"", "joint2 = \"mesh\""), {"model.joint.mesh.joint2", "(gear)"}},
       {replace(bevel, "ratio = \"n\"\n", ""), {"model.joint.mesh.ratio"}},
       {replace(bevel, "joint1 = \"bearA\"", "joint1 = \"bearA\"\ndof1 = \"translation\""),

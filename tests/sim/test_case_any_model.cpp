@@ -296,6 +296,50 @@ BOOST_AUTO_TEST_CASE(initial_angular_velocity_conflicts_are_refused_naming_the_k
   BOOST_TEST(error_of([&] { load_case_text(model + "[initial]\nb_e0 = 1.0\nb_wy = 2.0\n", "good.toml"); }).empty());
 }
 
+// Issue 22: the initial orientation of a spatial body as a rotation vector (initial.b_rx..rz =
+// chi u, ground axes) gives the Euler parameters (cos chi/2, u sin chi/2), written out here for
+// chi = 1.1 about u = (1, 2, 2)/3; with the ground angular-velocity keys the rates follow at that
+// orientation (the same as with the Euler parameters given); a zero vector is the identity;
+// together with an Euler parameter it is refused naming that key.
+BOOST_AUTO_TEST_CASE(initial_rotation_vector_key_gives_the_euler_parameters) {
+  const double chi = 1.1, c = std::cos(chi / 2), s = std::sin(chi / 2);
+  const double u[3] = {1.0 / 3, 2.0 / 3, 2.0 / 3};
+  const double e[4] = {c, u[0] * s, u[1] * s, u[2] * s};
+  const std::string model = "[model]\nname = \"spinner\"\n[model.body.b]\nkind = \"spatial\"\nmass = 2.0\n"
+                            "inertia = [0.1, 0.2, 0.3]\n[solver]\nt_end = 0.01\n";
+  auto with = [&](const std::string& initial) {
+    std::ostringstream os;
+    os.precision(17);
+    os << model << "[initial]\nb_x = -500.0\n" << initial;
+    return os.str();
+  };
+  std::ostringstream rv, ev;
+  rv.precision(17);
+  ev.precision(17);
+  rv << "b_rx = " << chi * u[0] << "\nb_ry = " << chi * u[1] << "\nb_rz = " << chi * u[2] << "\nb_wx = 0.4\nb_wz = -1.5\n";
+  ev << "b_e0 = " << e[0] << "\nb_e1 = " << e[1] << "\nb_e2 = " << e[2] << "\nb_e3 = " << e[3] << "\nb_wx = 0.4\nb_wz = -1.5\n";
+  const Case a = load_case_text(with(rv.str()), "rv.toml");
+  const Case b = load_case_text(with(ev.str()), "ev.toml");
+  const int i0 = a.model->coordinate_index("b_e0");
+  BOOST_REQUIRE(i0 >= 0);
+  for (int j = 0; j < 4; ++j) {
+    BOOST_TEST(std::abs(a.setup.q0[i0 + j] - e[j]) < 1e-15, "e" << j);
+    BOOST_TEST(std::abs(a.setup.qd0[i0 + j] - b.setup.qd0[i0 + j]) < 1e-15, "e" << j << "_d");
+  }
+  BOOST_TEST(a.setup.q0[a.model->coordinate_index("b_x")] == -500.0);
+  const Case z = load_case_text(with("b_ry = 0.0\n"), "zero.toml");
+  BOOST_TEST(z.setup.q0[i0] == 1.0);
+  BOOST_TEST(z.setup.q0.segment(i0 + 1, 3).cwiseAbs().maxCoeff() == 0.0);
+  const std::string err = error_of([&] { load_case_text(with("b_ry = 0.5\nb_e2 = 0.3\n"), "both.toml"); });
+  BOOST_TEST(has(err, "both.toml: key 'initial.b_e2'"), err);
+  BOOST_TEST(has(err, "rotation vector (initial.b_ry)"), err);
+  // no Euler parameters and an angular velocity: the rotation vector is the orientation
+  BOOST_TEST(error_of([&] { load_case_text(with("b_rz = 0.2\nb_w1 = 1.0\n"), "ok.toml"); }).empty());
+  TempDir dir;
+  run_case(a, writing_to(dir.path / "out"));
+  BOOST_TEST(std::filesystem::exists(dir.path / "out" / "summary.json"));
+}
+
 // Issue 23: the summary monitor of a large model (n >= 60: no exact-refinement allowance, the
 // 33-point grid from the dense output, with q̈, R and the multipliers interpolated through 9
 // full samples per step and the derived columns from them) against an independent oracle: the
