@@ -316,6 +316,54 @@ class SpatialPointOnLine : public JointType {
   }
 };
 
+// A spatial tree joint's bodies, markers and its one coordinate (`what` names it in messages).
+struct TreeJoint {
+  const Body* b1;
+  const Body* b2;
+  const Marker* m1;
+  const Marker* m2;
+  std::string c;
+};
+TreeJoint tree_joint(Expander& x, const Joint& j, const std::string& what) {
+  TreeJoint t{&x.body(j.body1, j.key + ".body1"), &x.body(j.body2, j.key + ".body2"), nullptr, nullptr, ""};
+  t.m1 = &x.marker(*t.b1, j.marker1, j.key + ".marker1");
+  t.m2 = &x.marker(*t.b2, j.marker2, j.key + ".marker2");
+  if (j.coordinates.size() != 1 || j.coordinates[0].empty())
+    x.fail(j.key + ".coordinates", "one coordinate name, " + what);
+  t.c = j.coordinates[0];
+  return t;
+}
+
+// Body2's rotation relative to body1, Arel = R1 Rj R2ᵀ (Rj: the joint's own turn of marker2's
+// frame from marker1's), and in ground, A1 Arel, as the definitions NAME_aij (into p.A).
+Mat3 tree_rotation(Expander& x, const Joint& j, const TreeJoint& t, const Mat3& Rj, Pose& p) {
+  Mat3 R2t;  // R2ᵀ
+  for (int a = 0; a < 3; ++a)
+    for (int c = 0; c < 3; ++c) R2t.m[a][c] = t.m2->R.m[c][a];
+  const Mat3 Arel = multiply(multiply(t.m1->R, Rj), R2t);
+  const Mat3 A2t = multiply(t.b1->pose.A, Arel);
+  for (int a = 0; a < 3; ++a)
+    for (int c = 0; c < 3; ++c) p.A.m[a][c] = x.define(a_name(*t.b2, a, c), A2t.m[a][c], j.key);
+  return Arel;
+}
+
+// Body2's named rates (define_rates), its body-axis angular velocity ω'2 = Arelᵀ ω'1 + ċ own
+// written in body1's named rates when body1 is spatial (a short T); own: the joint's own
+// rotation per unit rate of its coordinate, body2's axes (0 for a travel).
+void tree_rates(Expander& x, const Joint& j, const TreeJoint& t, const Pose& p, const Mat3& Arel,
+                const Vec3& own) {
+  std::array<Expr, 3> wt;
+  const bool named = !t.b1->ground && !x.kind(*t.b1).planar();
+  for (int i = 0; i < 3; ++i) {
+    std::vector<Expr> terms;
+    if (named)
+      for (int k = 0; k < 3; ++k) terms.push_back(mul(Arel.m[k][i], t.b1->name + "_w" + std::to_string(k + 1)));
+    if (!is_zero(own[i])) terms.push_back(mul(own[i], t.c + "_d"));
+    wt[static_cast<std::size_t>(i)] = sum(terms);
+  }
+  define_rates(x, *t.b2, p, j.key, (named || t.b1->ground) ? &wt : nullptr);
+}
+
 // Revolute joint: the markers coincide and their z axes are parallel (rows <joint>_x, _y, _z,
 // _ax, _ay); as a tree joint (`coordinates = ["angle"]`) it places body2 by the angle of
 // marker2's x axis from marker1's about their common z axis (no rows, no Euler parameters for
@@ -326,23 +374,15 @@ class SpatialRevolute : public JointType {
   int tree_coordinates(bool) const override { return 1; }
   void rows(Expander& x, Joint& j) const override { pair_rows(x, j, {true, true, true, true, false}); }
   Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
-    const Body& b1 = x.body(j.body1, j.key + ".body1");
-    const Body& b2 = x.body(j.body2, j.key + ".body2");
-    const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
-    const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
-    if (j.coordinates.size() != 1 || j.coordinates[0].empty())
-      x.fail(j.key + ".coordinates", "one coordinate name, the joint's angle (a revolute tree joint)");
-    const std::string th = j.coordinates[0];
-    Mat3 R2t;  // R2ᵀ
-    for (int a = 0; a < 3; ++a)
-      for (int c = 0; c < 3; ++c) R2t.m[a][c] = m2.R.m[c][a];
-    const Mat3 Arel = multiply(multiply(m1.R, Mat3::rot_z(th)), R2t);
-    const Mat3 A2t = multiply(b1.pose.A, Arel);
+    const TreeJoint t = tree_joint(x, j, "the joint's angle (a revolute tree joint)");
+    const Body& b1 = *t.b1;
+    const Marker& m1 = *t.m1;
+    const Marker& m2 = *t.m2;
+    const std::string& th = t.c;
     Pose p;
-    for (int a = 0; a < 3; ++a)
-      for (int c = 0; c < 3; ++c) p.A.m[a][c] = x.define(a_name(b2, a, c), A2t.m[a][c], j.key);
+    const Mat3 Arel = tree_rotation(x, j, t, Mat3::rot_z(th), p);
     const Vec3 r2 = sub(add(b1.pose.r, apply(b1.pose.A, m1.p)), apply(p.A, m2.p));
-    for (int a = 0; a < 3; ++a) p.r[a] = x.define(b2.name + "_" + "xyz"[a], r2[a], j.key);
+    for (int a = 0; a < 3; ++a) p.r[a] = x.define(t.b2->name + "_" + "xyz"[a], r2[a], j.key);
     const Vec3 z1 = column(m1.R, 2);               // the axis in body1's frame
     const LinVec3 wrel_parent = [&] {
       LinVec3 w;
@@ -355,17 +395,7 @@ class SpatialRevolute : public JointType {
     p.w_body = add(apply_transposed(Arel, b1.pose.w_body), w2b_own);
     p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, m1.p))),
               cross(p.w, scale("-1", apply(p.A, m2.p))));
-    // ω'2 = Arelᵀ ω'1 + θ̇ R2 ẑ, written in body1's named rates (body1 spatial) for a short T.
-    std::array<Expr, 3> wt;
-    const bool named = !b1.ground && !x.kind(b1).planar();
-    for (int i = 0; i < 3; ++i) {
-      std::vector<Expr> terms;
-      if (named)
-        for (int k = 0; k < 3; ++k) terms.push_back(mul(Arel.m[k][i], b1.name + "_w" + std::to_string(k + 1)));
-      terms.push_back(mul(m2.R.m[i][2], th + "_d"));
-      wt[static_cast<std::size_t>(i)] = sum(terms);
-    }
-    define_rates(x, b2, p, j.key, (named || b1.ground) ? &wt : nullptr);
+    tree_rates(x, j, t, p, Arel, column(m2.R, 2));  // θ̇ R2 ẑ
     rel.A = Arel;
     rel.r = sub(m1.p, apply(Arel, m2.p));
     rel.w = wrel_parent;
@@ -385,41 +415,24 @@ class SpatialPrismatic : public JointType {
   int tree_coordinates(bool) const override { return 1; }
   void rows(Expander& x, Joint& j) const override { pair_rows(x, j, {true, true, false, true, true}); }
   Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
-    const Body& b1 = x.body(j.body1, j.key + ".body1");
-    const Body& b2 = x.body(j.body2, j.key + ".body2");
-    const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
-    const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
-    if (j.coordinates.size() != 1 || j.coordinates[0].empty())
-      x.fail(j.key + ".coordinates", "one coordinate name, the joint's travel (a prismatic tree joint)");
-    const std::string s = j.coordinates[0];
-    Mat3 R2t;  // R2ᵀ
-    for (int a = 0; a < 3; ++a)
-      for (int c = 0; c < 3; ++c) R2t.m[a][c] = m2.R.m[c][a];
-    const Mat3 Arel = multiply(m1.R, R2t);
-    const Mat3 A2t = multiply(b1.pose.A, Arel);
+    const TreeJoint t = tree_joint(x, j, "the joint's travel (a prismatic tree joint)");
+    const Body& b1 = *t.b1;
+    const Marker& m1 = *t.m1;
+    const Marker& m2 = *t.m2;
+    const std::string& s = t.c;
     Pose p;
-    for (int a = 0; a < 3; ++a)
-      for (int c = 0; c < 3; ++c) p.A.m[a][c] = x.define(a_name(b2, a, c), A2t.m[a][c], j.key);
+    const Mat3 Arel = tree_rotation(x, j, t, Mat3{}, p);
     const Vec3 z1 = column(m1.R, 2);  // the guide's direction in body1's frame
     // body2's origin in body1's frame: marker1's origin + s z1 − Arel (marker2's position)
     const Vec3 rel_r = sub(add(m1.p, scale(s, z1)), apply(Arel, m2.p));
     const Vec3 r2 = add(b1.pose.r, apply(b1.pose.A, rel_r));
-    for (int a = 0; a < 3; ++a) p.r[a] = x.define(b2.name + "_" + "xyz"[a], r2[a], j.key);
+    for (int a = 0; a < 3; ++a) p.r[a] = x.define(t.b2->name + "_" + "xyz"[a], r2[a], j.key);
     LinVec3 vrel;  // ṡ z1, body1's components
     for (int a = 0; a < 3; ++a) vrel[a] = scale(z1[a], velocity_of(s));
     p.w = b1.pose.w;
     p.w_body = apply_transposed(Arel, b1.pose.w_body);
     p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, rel_r))), apply(b1.pose.A, vrel));
-    // ω'2 = Arelᵀ ω'1, written in body1's named rates (body1 spatial) for a short T.
-    std::array<Expr, 3> wt;
-    const bool named = !b1.ground && !x.kind(b1).planar();
-    for (int i = 0; i < 3; ++i) {
-      std::vector<Expr> terms;
-      if (named)
-        for (int k = 0; k < 3; ++k) terms.push_back(mul(Arel.m[k][i], b1.name + "_w" + std::to_string(k + 1)));
-      wt[static_cast<std::size_t>(i)] = terms.empty() ? Expr("0") : sum(terms);
-    }
-    define_rates(x, b2, p, j.key, (named || b1.ground) ? &wt : nullptr);
+    tree_rates(x, j, t, p, Arel, Vec3{});  // no rotation of its own
     rel.A = Arel;
     rel.r = rel_r;
     rel.v = vrel;
