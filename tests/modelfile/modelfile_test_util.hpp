@@ -4,15 +4,20 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <initializer_list>
 #include <random>
+#include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "common/eigen_instances.hpp"
 
 #include "common/error.hpp"
 #include "mech/model.hpp"
+#include "modelfile/model_file.hpp"
 
 namespace pcsim::modelfile::testing {
 
@@ -25,6 +30,29 @@ inline std::filesystem::path model_path(const std::string& file) {
 inline double rel_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double floor = 1e-300) {
   if (a.size() == 0 && b.size() == 0) return 0.0;
   return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), floor);
+}
+
+/// The text of a model file of models/ (throws if it cannot be read).
+inline std::string model_text(const std::string& file) {
+  std::ifstream in(model_path(file));
+  if (!in) throw std::runtime_error("cannot read models/" + file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// The index of `name` in `names` (a model's coordinates, say); throws if it is absent.
+inline int name_index(const std::vector<std::string>& names, const std::string& name) {
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) throw std::runtime_error("no '" + name + "' among the names");
+  return static_cast<int>(it - names.begin());
+}
+
+/// The index of the output column `name` of a model description; throws if it has none.
+inline int output_index(const ModelDescription& d, const std::string& name) {
+  for (std::size_t i = 0; i < d.outputs().size(); ++i)
+    if (d.outputs()[i].name == name) return static_cast<int>(i);
+  throw std::runtime_error("no output '" + name + "'");
 }
 
 /// Uniform in [-1, 1].

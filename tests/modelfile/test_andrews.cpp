@@ -186,13 +186,6 @@ VectorXd vec(const std::array<double, 7>& a) { return Eigen::Map<const VectorXd>
 const std::vector<std::string> angle_names = {"beta", "Theta", "gamma", "Phi", "delta", "Omega", "epsilon"};
 const std::vector<std::string> row_names = {"E3_x", "E3_y", "E4_x", "E4_y", "E6_x", "E6_y"};
 
-std::string model_text() {
-  std::ifstream in(model_path("andrews_squeezer.toml"));
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   BOOST_REQUIRE_MESSAGE(at != std::string::npos, "the model file has no '" << from << "'");
@@ -208,7 +201,7 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 // Also with the whole mechanism moved 1000 m from the origin (every fixed point, and the crank's
 // pivot, shifted: the equations do not change), where the rows lose ~1e-13 m to rounding.
 BOOST_AUTO_TEST_CASE(andrews_body_model_expands_to_the_test_sets_equations) {
-  const std::string text = model_text();
+  const std::string text = model_text("andrews_squeezer.toml");
   std::string far = replaced(text, "A = [\"xa\", \"ya\"]", "A = [\"xa + 1000\", \"ya - 1000\"]");
   far = replaced(far, "B = [\"xb\", \"yb\"]", "B = [\"xb + 1000\", \"yb - 1000\"]\nO = [1000, -1000]");
   far = replaced(far, "C = [\"xc\", \"yc\"]", "C = [\"xc + 1000\", \"yc - 1000\"]");

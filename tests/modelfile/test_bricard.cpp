@@ -182,12 +182,6 @@ Eigen::Matrix<double, 3, 4> E_of(const Vector4d& e) {
   return E;
 }
 
-int index_of(const std::vector<std::string>& names, const std::string& n) {
-  const auto it = std::find(names.begin(), names.end(), n);
-  BOOST_REQUIRE(it != names.end());
-  return static_cast<int>(it - names.begin());
-}
-
 // pcsim's state (q, qd) at the oracle's point with rate thd.
 void state_of(const Point& P, double thd, const std::vector<std::string>& names, Eigen::VectorXd& q,
               Eigen::VectorXd& qd) {
@@ -198,23 +192,16 @@ void state_of(const Point& P, double thd, const std::vector<std::string>& names,
     // the body frame's origin is the rod's first joint; its velocity from the centre's
     const Vector3d od = P.cd_[k] - P.w[k].cross(P.C.c[k] - P.C.o[k]);
     for (int i = 0; i < 3; ++i) {
-      q[index_of(names, b + "xyz"[i])] = P.C.o[k][i];
-      qd[index_of(names, b + "xyz"[i])] = od[i] * thd;
+      q[name_index(names, b + "xyz"[i])] = P.C.o[k][i];
+      qd[name_index(names, b + "xyz"[i])] = od[i] * thd;
     }
     const Vector4d e = e_of_matrix(P.C.R[k]);
     const Vector4d ed = 0.5 * E_of(e).transpose() * (P.w[k] * thd);
     for (int i = 0; i < 4; ++i) {
-      q[index_of(names, b + "e" + std::to_string(i))] = e[i];
-      qd[index_of(names, b + "e" + std::to_string(i))] = ed[i];
+      q[name_index(names, b + "e" + std::to_string(i))] = e[i];
+      qd[name_index(names, b + "e" + std::to_string(i))] = ed[i];
     }
   }
-}
-
-std::string model_text() {
-  std::ifstream in(model_path("bricard_a04.toml"));
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 }  // namespace
@@ -279,7 +266,7 @@ BOOST_AUTO_TEST_CASE(bricard_follows_the_independent_joint_angle_model_and_keeps
       g2 = P.th;
       for (int k = 0; k < 5; ++k) {
         const std::string b = "rod" + std::to_string(k + 1) + "_";
-        const int ix = index_of(names, b + "x"), ie = index_of(names, b + "e0");
+        const int ix = name_index(names, b + "x"), ie = name_index(names, b + "e0");
         err_o = std::max(err_o, (s.q.segment<3>(ix) - P.C.o[k]).cwiseAbs().maxCoeff());
         const Vector4d e = s.q.segment<4>(ie);
         const Eigen::Quaterniond qq(e[0], e[1], e[2], e[3]);
@@ -289,7 +276,7 @@ BOOST_AUTO_TEST_CASE(bricard_follows_the_independent_joint_angle_model_and_keeps
       double T = 0, V = 0;
       for (int k = 0; k < 5; ++k) {
         const std::string b = "rod" + std::to_string(k + 1) + "_";
-        const int ix = index_of(names, b + "x"), ie = index_of(names, b + "e0");
+        const int ix = name_index(names, b + "x"), ie = name_index(names, b + "e0");
         const Vector4d e = s.q.segment<4>(ie), ed = s.qd.segment<4>(ie);
         const Matrix3d A = Eigen::Quaterniond(e[0], e[1], e[2], e[3]).toRotationMatrix();
         const Vector3d wg = 2.0 * E_of(e) * ed;  // ground angular velocity
@@ -323,7 +310,7 @@ BOOST_AUTO_TEST_CASE(bricard_follows_the_independent_joint_angle_model_and_keeps
 // consistent states (oracle points with nonzero rates), and each solve reports the 35 rows'
 // rank 34 (nullity 1, indeterminate).
 BOOST_AUTO_TEST_CASE(bricard_r_is_the_same_for_three_row_orders_of_the_joints) {
-  const std::string text = model_text();
+  const std::string text = model_text("bricard_a04.toml");
   // the six [model.joint.jK] tables, cut out of the text
   const auto first = text.find("[model.joint.j0]");
   const auto after = text.find("[model.force.gravity]");

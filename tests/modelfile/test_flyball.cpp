@@ -370,19 +370,6 @@ Errors compare(const mech::Model& model, const std::vector<std::string>& active,
   return err;
 }
 
-std::string model_text() {
-  std::ifstream in(model_path("flyball_governor.toml"));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-int index_of(const std::vector<std::string>& names, const std::string& n) {
-  const auto it = std::find(names.begin(), names.end(), n);
-  BOOST_REQUIRE(it != names.end());
-  return static_cast<int>(it - names.begin());
-}
-
 }  // namespace
 
 // All four bodies absolute (the model file without the `coordinates` of its three revolute
@@ -429,7 +416,7 @@ boost::test_tools::assertion_result fast_build(boost::unit_test::test_unit_id) {
 BOOST_AUTO_TEST_CASE(flyball_governor_in_absolute_coordinates_follows_the_minimal_coordinate_model,
                      *boost::unit_test::precondition(fast_build)) {
   // models/flyball_governor.toml without its three tree joints' coordinates: every body absolute
-  std::string t = model_text();
+  std::string t = model_text("flyball_governor.toml");
   for (const char* c : {"psi", "th1", "th2"}) {
     const std::string line = std::string("coordinates = [\"") + c + "\"]";
     const auto at = t.find(line);
@@ -442,8 +429,8 @@ BOOST_AUTO_TEST_CASE(flyball_governor_in_absolute_coordinates_follows_the_minima
   BOOST_REQUIRE(model->n() == 28);
   Index I;
   for (int b = 0; b < 4; ++b) {
-    I.x[b] = index_of(names, std::string(body_name[b]) + "_x");
-    I.e[b] = index_of(names, std::string(body_name[b]) + "_e0");
+    I.x[b] = name_index(names, std::string(body_name[b]) + "_x");
+    I.e[b] = name_index(names, std::string(body_name[b]) + "_e0");
   }
   int iFz = -1, iFh = -1;
   for (std::size_t i = 0; i < desc->outputs().size(); ++i) {
@@ -487,8 +474,8 @@ BOOST_AUTO_TEST_CASE(flyball_governor_follows_the_minimal_coordinate_model_over_
   const auto& names = desc->coordinates();
   BOOST_REQUIRE(model->n() == 10);
   BOOST_REQUIRE(desc->default_active_constraints().size() == 6u);
-  const int ipsi = index_of(names, "psi"), ith1 = index_of(names, "th1"), ith2 = index_of(names, "th2"),
-            isx = index_of(names, "slider_x"), ise = index_of(names, "slider_e0");
+  const int ipsi = name_index(names, "psi"), ith1 = name_index(names, "th1"), ith2 = name_index(names, "th2"),
+            isx = name_index(names, "slider_x"), ise = name_index(names, "slider_e0");
   auto to_bodies = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& xd) {
     std::array<Body, 4> B = bodies(x[ipsi], x[ith1], x[ith2], 0.0, xd[ipsi], xd[ith1], xd[ith2], 0.0);
     const Vector4d e = x.segment<4>(ise), ed = xd.segment<4>(ise);

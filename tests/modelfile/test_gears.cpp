@@ -44,27 +44,6 @@ using Eigen::Vector4d;
 
 namespace {
 
-std::string read_text(const std::string& file) {
-  std::ifstream in(model_path(file));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-int index_of(const std::vector<std::string>& names, const std::string& name) {
-  for (std::size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name) return static_cast<int>(i);
-  BOOST_FAIL("no " << name);
-  return -1;
-}
-
-int output_index(const ModelDescription& d, const std::string& name) {
-  for (std::size_t i = 0; i < d.outputs().size(); ++i)
-    if (d.outputs()[i].name == name) return static_cast<int>(i);
-  BOOST_FAIL("no output " << name);
-  return -1;
-}
-
 std::string replace(std::string s, const std::string& from, const std::string& to) {
   const auto at = s.find(from);
   BOOST_REQUIRE_MESSAGE(at != std::string::npos, "no '" << from << "' in the model text");
@@ -123,8 +102,8 @@ BOOST_AUTO_TEST_CASE(bevel_gear_on_spatial_revolute_rows_follows_the_reduced_ine
   const auto model = desc->instantiate({});
   const auto& names = desc->coordinates();
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model->n()), qd = Eigen::VectorXd::Zero(model->n());
-  const int xA = index_of(names, "shaftA_x"), eA = index_of(names, "shaftA_e0");
-  const int xB = index_of(names, "shaftB_x"), eB = index_of(names, "shaftB_e0");
+  const int xA = name_index(names, "shaftA_x"), eA = name_index(names, "shaftA_e0");
+  const int xB = name_index(names, "shaftB_x"), eB = name_index(names, "shaftB_e0");
   const Eigen::Quaterniond qA(A0A), qB(A0B);
   q.segment<3>(xA) = P0;
   q.segment<4>(eA) << qA.w(), qA.x(), qA.y(), qA.z();
@@ -163,7 +142,7 @@ BOOST_AUTO_TEST_CASE(bevel_gear_on_spatial_revolute_rows_follows_the_reduced_ine
 // gear's row is holonomic, thB - n thA fixed at the initial state (nonzero here: 0.4 rad), and
 // the closed form holds as before.
 BOOST_AUTO_TEST_CASE(gear_between_tree_joints_is_holonomic_and_gives_the_same_closed_form) {
-  std::string text = read_text("bevel_gear_bodies.toml");
+  std::string text = model_text("bevel_gear_bodies.toml");
   text = replace(text, "body2 = \"shaftA\"\n", "body2 = \"shaftA\"\ncoordinates = [\"thA\"]\n");
   text = replace(text, "body2 = \"shaftB\"\n", "body2 = \"shaftB\"\ncoordinates = [\"thB\"]\n");
   const auto desc = load_model_text(text, "bevel_gear_tree.toml");
@@ -174,7 +153,7 @@ BOOST_AUTO_TEST_CASE(gear_between_tree_joints_is_holonomic_and_gives_the_same_cl
   Eigen::VectorXd q(2), qd = Eigen::VectorXd::Zero(2);
   q << 0.3, 0.3 * n_ratio + 0.4;
   const auto model = desc->instantiate({}, q);
-  const int ith = index_of(desc->coordinates(), "thB");
+  const int ith = name_index(desc->coordinates(), "thB");
   const int iM = output_index(*desc, "M_mesh_z"), iwB = output_index(*desc, "wB");
   double err_w = 0, err_M = 0, err_th = 0;
   run_on_grid(*model, q, qd, desc->default_active_constraints(), 4.0, 0.25, 1e-10, [&](const mech::Sample& s) {
@@ -246,16 +225,16 @@ BOOST_AUTO_TEST_CASE(rack_and_pinion_on_planar_rows_is_a_holonomic_gear) {
   const Eigen::Vector2d X0(1200.0, -800.0), ex(std::cos(beta), std::sin(beta));
   Eigen::VectorXd q = Eigen::VectorXd::Zero(desc->coordinates().size()), qd = q;
   const double s0 = 0.1, phi0 = 0.7;  // travel and angle at t = 0
-  q[index_of(names, "rack_x")] = X0[0] + s0 * ex[0];
-  q[index_of(names, "rack_y")] = X0[1] + s0 * ex[1];
-  q[index_of(names, "rack_th")] = beta;
-  q[index_of(names, "pinion_x")] = X0[0] + 0.3;
-  q[index_of(names, "pinion_y")] = X0[1] + 0.4;
-  q[index_of(names, "pinion_th")] = phi0;
+  q[name_index(names, "rack_x")] = X0[0] + s0 * ex[0];
+  q[name_index(names, "rack_y")] = X0[1] + s0 * ex[1];
+  q[name_index(names, "rack_th")] = beta;
+  q[name_index(names, "pinion_x")] = X0[0] + 0.3;
+  q[name_index(names, "pinion_y")] = X0[1] + 0.4;
+  q[name_index(names, "pinion_th")] = phi0;
   const auto model = desc->instantiate({}, q);
   const double sdd = -m * g * std::sin(beta) / (m + J / (r * r));
   const int iF = output_index(*desc, "F_mesh_x");
-  const int ix = index_of(names, "rack_x"), ith = index_of(names, "pinion_th");
+  const int ix = name_index(names, "rack_x"), ith = name_index(names, "pinion_th");
   double err_s = 0, err_phi = 0, err_F = 0;
   run_on_grid(*model, q, qd, desc->default_active_constraints(), 1.0, 0.05, 1e-10, [&](const mech::Sample& smp) {
     const double t = smp.t, s = s0 + 0.5 * sdd * t * t;
@@ -288,8 +267,8 @@ BOOST_AUTO_TEST_CASE(open_differential_coupler_follows_the_minimal_coordinate_mo
   const char* body[3] = {"carrier", "shaftL", "shaftR"};
   const double dx[3] = {0.0, -0.6, 0.6};
   for (int b = 0; b < 3; ++b) {
-    q.segment<3>(index_of(names, std::string(body[b]) + "_x")) = P + Vector3d(dx[b], 0, 0);
-    q.segment<4>(index_of(names, std::string(body[b]) + "_e0")) << e.w(), e.x(), e.y(), e.z();
+    q.segment<3>(name_index(names, std::string(body[b]) + "_x")) = P + Vector3d(dx[b], 0, 0);
+    q.segment<4>(name_index(names, std::string(body[b]) + "_e0")) << e.w(), e.x(), e.y(), e.z();
   }
   const auto model = desc->instantiate({}, q);
   Eigen::Matrix2d M;
@@ -356,11 +335,11 @@ w = "shaft_w3"
   Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<int>(names.size())), qd = q;
   const Eigen::Quaterniond e(A0A);  // body z along ground x
   const double w0 = 10.0, c = 0.4, J = 0.5;
-  q.segment<3>(index_of(names, "shaft_x")) = Vector3d(300, -200, 50);
-  q.segment<4>(index_of(names, "shaft_e0")) << e.w(), e.x(), e.y(), e.z();
+  q.segment<3>(name_index(names, "shaft_x")) = Vector3d(300, -200, 50);
+  q.segment<4>(name_index(names, "shaft_e0")) << e.w(), e.x(), e.y(), e.z();
   // e_d = 1/2 e (x) (0, w body): body z
   const Eigen::Quaterniond ed = e * Eigen::Quaterniond(0, 0, 0, 0.5 * w0);
-  qd.segment<4>(index_of(names, "shaft_e0")) << ed.w(), ed.x(), ed.y(), ed.z();
+  qd.segment<4>(name_index(names, "shaft_e0")) << ed.w(), ed.x(), ed.y(), ed.z();
   const auto model = desc->instantiate({});
   const int iw = output_index(*desc, "w");
   double err = 0;
@@ -409,8 +388,8 @@ damping = 0.4
   Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<int>(names.size())), qd = q;
   const Eigen::Quaterniond e(A0A);
   const double a = 0.8, w = 5.0, b = 3.0, c = 0.4, J = 0.5;
-  const int ie = index_of(names, "shaft_e0");
-  q.segment<3>(index_of(names, "shaft_x")) = Vector3d(300, -200, 50);
+  const int ie = name_index(names, "shaft_e0");
+  q.segment<3>(name_index(names, "shaft_x")) = Vector3d(300, -200, 50);
   q.segment<4>(ie) << e.w(), e.x(), e.y(), e.z();
   const Eigen::Quaterniond ed = e * Eigen::Quaterniond(0, 0, 0, 0.5 * (a * w + b));  // f'(0)
   qd.segment<4>(ie) << ed.w(), ed.x(), ed.y(), ed.z();
@@ -433,8 +412,8 @@ damping = 0.4
 
 // Gears and couplers that name the wrong things are input errors naming the key.
 BOOST_AUTO_TEST_CASE(bad_gears_and_couplers_are_rejected_naming_the_key) {
-  const std::string bevel = read_text("bevel_gear_bodies.toml");
-  const std::string diff = read_text("differential_bodies.toml");
+  const std::string bevel = model_text("bevel_gear_bodies.toml");
+  const std::string diff = model_text("differential_bodies.toml");
   struct Case {
     std::string text;
     std::vector<std::string> parts;

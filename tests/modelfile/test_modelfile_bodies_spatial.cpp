@@ -88,19 +88,6 @@ std::vector<std::string> all_names(const mech::Model& m) {
   for (const auto& c : m.constraints()) r.push_back(c.name);
   return r;
 }
-int index_of_name(const std::vector<std::string>& names, const std::string& name) {
-  for (std::size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name) return static_cast<int>(i);
-  BOOST_FAIL("no coordinate " << name);
-  return -1;
-}
-int output_index(const ModelDescription& d, const std::string& name) {
-  for (std::size_t i = 0; i < d.outputs().size(); ++i)
-    if (d.outputs()[i].name == name) return static_cast<int>(i);
-  BOOST_FAIL("no output " << name);
-  return -1;
-}
-
 const char* kTopBodies = R"(
 [model]
 name = "top_bodies"
@@ -438,12 +425,12 @@ BOOST_AUTO_TEST_CASE(wheel_on_an_accelerating_deck_rolls_as_on_a_plane_under_til
     const auto desc = load_model_text(text, name);
     const auto& names = desc->coordinates();
     Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<int>(names.size())), qd = q;
-    const int ic = index_of_name(names, "coin_x");
+    const int ic = name_index(names, "coin_x");
     q.segment<7>(ic) = c;
     qd.segment<7>(ic) = cd;
     if (deck) {
-      q.segment<3>(index_of_name(names, "deck_x")) = P0;
-      q[index_of_name(names, "deck_e0")] = 1.0;
+      q.segment<3>(name_index(names, "deck_x")) = P0;
+      q[name_index(names, "deck_e0")] = 1.0;
     }
     const auto model = desc->instantiate({}, q);
     const int iF = output_index(*desc, "F_roll_x");
@@ -488,13 +475,6 @@ BOOST_AUTO_TEST_CASE(wheel_on_an_accelerating_deck_rolls_as_on_a_plane_under_til
 }
 
 namespace {
-
-std::string file_text(const std::string& file) {
-  std::ifstream in(model_path(file));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // models/wheel_in_bowl_bodies.toml's data, written again.
 const double kBm = 2.0, kBr = 0.2, kBR = 1.0, kBg = 9.81;
@@ -545,7 +525,7 @@ struct Pendulum {
 BOOST_AUTO_TEST_CASE(wheel_rolling_on_a_sphere_in_a_vertical_plane_follows_the_reduced_pendulum) {
   for (const bool inside : {true, false}) {
     BOOST_TEST_CONTEXT((inside ? "inside" : "outside")) {
-      std::string text = file_text("wheel_in_bowl_bodies.toml");
+      std::string text = model_text("wheel_in_bowl_bodies.toml");
       if (!inside) {
         const auto at = text.find("inside = true");
         BOOST_REQUIRE(at != std::string::npos);
@@ -743,11 +723,11 @@ BOOST_AUTO_TEST_CASE(prismatic_joint_between_spatial_bodies_as_tree_joint_and_as
       const auto& names = desc->coordinates();
       BOOST_REQUIRE(names.size() == (tree ? 2u : 8u));
       Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<int>(names.size())), qd = q;
-      qd[index_of_name(names, "phi")] = w;
+      qd[name_index(names, "phi")] = w;
       if (tree) {
-        q[index_of_name(names, "s")] = s0;
+        q[name_index(names, "s")] = s0;
       } else {
-        const int ix = index_of_name(names, "bead_x"), ie = index_of_name(names, "bead_e0");
+        const int ix = name_index(names, "bead_x"), ie = name_index(names, "bead_e0");
         q.segment<3>(ix) = hub + Vector3d(s0, 0, 0);
         q[ie] = 1.0;
         qd.segment<3>(ix) = Vector3d(0, w * s0, 0);
@@ -770,8 +750,8 @@ BOOST_AUTO_TEST_CASE(prismatic_joint_between_spatial_bodies_as_tree_joint_and_as
         while (next * dt <= v.t + 1e-12) {
           const mech::Sample smp = v.sample(std::max(v.t_prev, next * dt));
           const double t = smp.t, s = s0 * std::cosh(w * t), sd = s0 * w * std::sinh(w * t);
-          const Vector3d P = tree ? Vector3d::Zero() : Vector3d(smp.q.segment<3>(index_of_name(names, "bead_x")));
-          const double s_run = tree ? smp.q[index_of_name(names, "s")] : (P - hub).norm();
+          const Vector3d P = tree ? Vector3d::Zero() : Vector3d(smp.q.segment<3>(name_index(names, "bead_x")));
+          const double s_run = tree ? smp.q[name_index(names, "s")] : (P - hub).norm();
           err_s = std::max(err_s, std::abs(s_run - s) / s);
           s_end = s_run;
           // relative to the torque at the end, 2 m w s0^2 w cosh(w) sinh(w)
