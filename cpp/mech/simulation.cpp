@@ -8,6 +8,7 @@
 #include <exception>
 #include <sstream>
 
+#include "mech/detail/sample_site.hpp"
 #include "mech/dynamics.hpp"
 #include "mech/projection.hpp"
 #include "ode/integrate.hpp"
@@ -81,7 +82,8 @@ class Run {
         set_(ActiveSet::of(model, active)),
         active_(set_.rows()),
         dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
-        sample_dyn_(model, opt.kernel, opt.stabilization, opt.baumgarte_alpha, opt.baumgarte_beta),
+        site_(model, opt, active_),
+        sample_dyn_(site_.dynamics()),
         n_(model.n()),
         s_(set_.size()),
         method_(opt.reaction_method),
@@ -91,7 +93,7 @@ class Run {
         a_(n_),
         Rv_(n_) {
     // Large models with sparse structure: M and g as sparse values on the per-step paths.
-    dyn_.sparse_evaluation = sample_dyn_.sparse_evaluation = true;
+    dyn_.sparse_evaluation = true;  // (the sampling workspace's: SampleSite)
     sparse_rows_ = n_ >= Dynamics::kSparseMinN && model.has_sparse_structure();
     if (sparse_rows_) {
       for (int i : active_)
@@ -134,7 +136,7 @@ class Run {
     y.head(n_) = q;
     y.segment(n_, n_) = qd;
     if (opt_.form == Form::dae) {
-      ModelIssue e = sample_dyn_.evaluate(set_, t, q, qd);
+      ModelIssue e = sample_dyn_.evaluate(site_.set(), t, q, qd);
       if (e == ModelIssue::none) e = sample_dyn_.solve(ReactionMethod::compatibility);
       if (e != ModelIssue::none) {
         message_ = sample_dyn_.message();
@@ -144,81 +146,6 @@ class Run {
       y.segment(3 * n_, n_) = sample_dyn_.R;
     }
     return ModelIssue::none;
-  }
-
-  Sample sample(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-    Sample out;
-    fill_sample(t, q, qd, out);
-    return out;
-  }
-
-  // The state at t with reactions and derived quantities, into `out` (its storage is reused).
-  void fill_sample(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Sample& out) {
-    out.t = t;
-    out.q = q;
-    out.qd = qd;
-    ModelIssue e = sample_dyn_.evaluate(set_, t, q, qd);
-    if (e == ModelIssue::none) e = sample_dyn_.solve(method_);
-    if (e == ModelIssue::none) {
-      out.qdd = sample_dyn_.qdd;
-      out.R = sample_dyn_.R;
-      out.lambda = sample_dyn_.lambda;
-    } else {
-      out.qdd = Eigen::VectorXd::Constant(n_, std::nan(""));
-      out.R = out.qdd;
-      out.lambda = Eigen::VectorXd::Constant(s_, std::nan(""));
-    }
-    model_.derived_with_multipliers(t, q, qd, out.qdd, out.R, set_.rows(), out.lambda, out.derived);
-    out.residual_pos = sample_dyn_.position_residual(t, q);
-    out.residual_vel = sample_dyn_.velocity_residual(qd);
-  }
-
-  static const Sample& view_at(const void* self, double s) {
-    const Run& run = *static_cast<const Run*>(self);
-    return const_cast<Run&>(run).sample_in_step(s);
-  }
-
-  static void view_state(const void* self, double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
-    const_cast<Run*>(static_cast<const Run*>(self))->state_in_step(s, q, qd);
-  }
-  static void view_derived(const void* self, double s, const Eigen::VectorXd& q,
-                           const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
-                           const Eigen::VectorXd& R, const Eigen::VectorXd& lambda,
-                           Eigen::VectorXd& out) {
-    const Run& run = *static_cast<const Run*>(self);
-    run.model_.derived_with_multipliers(s, q, qd, qdd, R, run.set_.rows(), lambda, out);
-  }
-
-  // q and q̇ at s as sample_in_step takes them, without the dynamics.
-  void state_in_step(double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
-    if (step_ == nullptr || s >= step_->t || step_->t == step_->t_prev) s = current_t_;
-    if (s == current_t_) {
-      q = current_q_;
-      qd = current_qd_;
-      return;
-    }
-    state_.resize(ny());
-    step_->dense(std::max(s, step_->t_prev), state_.data());
-    q = state_.head(n_);
-    qd = state_.segment(n_, n_);
-  }
-
-  // Samples are cached by time within a step: observers often ask for the same instant (the
-  // step end) more than once, and each sample costs a full reaction solve.
-  const Sample& sample_in_step(double s) {
-    if (step_ == nullptr || s >= step_->t || step_->t == step_->t_prev) s = current_t_;
-    if (cache_valid_ && cache_.t == s) return cache_;
-    if (s == current_t_) {
-      fill_sample(current_t_, current_q_, current_qd_, cache_);
-    } else {
-      dense_.resize(ny());
-      step_->dense(std::max(s, step_->t_prev), dense_.data());
-      dq_ = dense_.head(n_);
-      dqd_ = dense_.segment(n_, n_);
-      fill_sample(s, dq_, dqd_, cache_);
-    }
-    cache_valid_ = true;
-    return cache_;
   }
 
   // Residuals of the current state; updates the maxima.
@@ -314,14 +241,14 @@ class Run {
   void start_limit(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (s_ == 0 || opt_.form == Form::dae) return;
     double pivot = 1.0;
-    if (sample_dyn_.evaluate(set_, t, q, qd) == ModelIssue::none &&
+    if (sample_dyn_.evaluate(site_.set(), t, q, qd) == ModelIssue::none &&
         sample_dyn_.solve(ReactionMethod::compatibility_structured) == ModelIssue::none &&
         !sample_dyn_.rank_revealing)
       pivot = sample_dyn_.min_pivot_ratio();
     const int persistent = r0_ < s_ ? s_ - r0_ : 0;
     const double sw = std::min(Dynamics::kLimitSwitch, 0.1 * pivot);
     dyn_.set_vanishing_limit(true, persistent, sw);
-    sample_dyn_.set_vanishing_limit(true, persistent, sw);
+    site_.set_vanishing_limit(true, persistent, sw);
   }
   void start_rank(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     if (s_ == 0) return;
@@ -329,7 +256,7 @@ class Run {
     // pivots: no row within about 1e-2 rad of the span of the others, so σ_min of the
     // row-scaled g is far above kRankReport σ_max); the dense SVD (O(s² n): minutes at
     // n = 3000) only where it hands over.
-    if (sparse_rows_ && sample_dyn_.evaluate(set_, t, q, qd) == ModelIssue::none &&
+    if (sparse_rows_ && sample_dyn_.evaluate(site_.set(), t, q, qd) == ModelIssue::none &&
         sample_dyn_.solve(ReactionMethod::compatibility_structured) == ModelIssue::none &&
         sample_dyn_.used_sparse && !sample_dyn_.rank_revealing) {
       r0_ = s_;
@@ -347,7 +274,7 @@ class Run {
     r0_ = rank_of(sv);
     if (r0_ < s_) {
       watching_ = true;
-      if (sample_dyn_.evaluate(set_, t, q, qd) == ModelIssue::none)
+      if (sample_dyn_.evaluate(site_.set(), t, q, qd) == ModelIssue::none)
         dependent_start_ = sample_dyn_.dependent_row_indices(r0_);
     }
   }
@@ -393,7 +320,7 @@ class Run {
     c.rank_before = r0_;
     c.rank = std::min(rank_of(sv), r0_ - 1);
     c.rows.clear();
-    if (sample_dyn_.evaluate(set_, c.t, dq_, dqd_) == ModelIssue::none) {
+    if (sample_dyn_.evaluate(site_.set(), c.t, dq_, dqd_) == ModelIssue::none) {
       // The rows a column-pivoted QR leaves outside the rank, less those dependent from the start.
       for (int r : sample_dyn_.dependent_row_indices(c.rank))
         if (std::find(dependent_start_.begin(), dependent_start_.end(), r) == dependent_start_.end())
@@ -493,19 +420,9 @@ class Run {
   // Called at t0 (step == nullptr) and after every accepted step.
   bool observe(const StepInfo* step, double t, const Eigen::VectorXd& q,
                const Eigen::VectorXd& qd, const StepObserver& observer) {
-    step_ = step;
-    current_t_ = t;
-    current_q_ = q;
-    current_qd_ = qd;
-    cache_valid_ = false;
+    site_.look_at(step, t, q, qd);
     if (!observer) return true;
-    StepView view;
-    view.t_prev = step ? step->t_prev : t;
-    view.t = t;
-    view.impl_ = this;
-    view.impl_at_ = &Run::view_at;
-    view.impl_state_ = &Run::view_state;
-    view.impl_derived_ = &Run::view_derived;
+    const StepView view = site_.view();
     try {
       return observer(view);
     } catch (const std::exception& ex) {
@@ -554,7 +471,9 @@ class Run {
   SimulationOptions opt_;
   ActiveSet set_;
   std::vector<int> active_;
-  Dynamics dyn_, sample_dyn_;
+  Dynamics dyn_;
+  detail::SampleSite site_;  // the observers' samples (and its workspace for the rank watch)
+  Dynamics& sample_dyn_;
   int n_, s_;
   ReactionMethod method_;
   bool legacy_;
@@ -563,12 +482,7 @@ class Run {
   bool sparse_rows_ = false;       // the rows as sparse values (large models with the structure)
   std::vector<char> holonomic_;    // per active row (sparse_rows_ only)
   Eigen::VectorXd phi_;
-  const StepInfo* step_ = nullptr;
-  double current_t_ = 0.0;
-  Eigen::VectorXd current_q_, current_qd_;
-  Sample cache_;
   Eigen::VectorXd dq_, dqd_;
-  bool cache_valid_ = false;
   double res_pos_max_ = 0.0, res_vel_max_ = 0.0;
   ModelIssue last_issue_ = ModelIssue::none;
   std::string last_failure_;

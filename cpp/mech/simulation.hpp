@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,21 @@ struct Sample {
   double residual_vel = 0.0;  ///< max |g q̇ + g0| over all active constraints
 };
 
+namespace detail {
+struct SampleSpec;
+class SampleSite;
+}  // namespace detail
+
+/// Issue 23: one step of simulate() kept beyond the observer call (StepView::record), to be
+/// observed later on another thread (StepReplayer): the state at its end, the dense output's
+/// polynomial, and what its samples are computed with. Its storage is reused by record().
+struct StepRecord {
+  double t_prev = 0.0, t = 0.0;
+  Eigen::VectorXd q, qd;  ///< the state at t (the accepted, possibly projected, one)
+  DenseCopy dense;        ///< empty at the initial state (t_prev == t)
+  std::shared_ptr<const detail::SampleSpec> spec;
+};
+
 /// One accepted step [t_prev, t] as seen by a StepObserver. Valid only during the call.
 class StepView {
  public:
@@ -91,8 +107,13 @@ class StepView {
                const Eigen::VectorXd& qdd, const Eigen::VectorXd& R, const Eigen::VectorXd& lambda,
                Eigen::VectorXd& out) const;
 
+  /// Issue 23: copies this step into `out` for a StepReplayer (on any thread); false where the
+  /// view cannot be recorded (the switching driver's views), and its observer must run here.
+  bool record(StepRecord& out) const { return impl_record_ != nullptr && impl_record_(impl_, out); }
+
   // Internal: set by simulate().
   const void* impl_ = nullptr;
+  bool (*impl_record_)(const void* impl, StepRecord& out) = nullptr;
   const Sample& (*impl_at_)(const void* impl, double s) = nullptr;
   void (*impl_state_)(const void* impl, double s, Eigen::VectorXd& q, Eigen::VectorXd& qd) = nullptr;
   void (*impl_derived_)(const void* impl, double s, const Eigen::VectorXd& q,
@@ -104,6 +125,22 @@ class StepView {
 /// Called once at t0 (t_prev == t == t0, the consistent initial state) and after every accepted
 /// step. Return false to stop (status stopped_by_callback).
 using StepObserver = std::function<bool(const StepView&)>;
+
+/// Issue 23: replays StepRecords as StepViews on the thread that calls replay(), with a
+/// workspace of its own: the observer sees the same samples, bit for bit, as it would have seen
+/// in the step's own observer call. One replayer serves the records of one thread.
+class StepReplayer {
+ public:
+  StepReplayer();
+  ~StepReplayer();
+  StepReplayer(const StepReplayer&) = delete;
+  StepReplayer& operator=(const StepReplayer&) = delete;
+  /// The observer's answer for the recorded step.
+  bool replay(const StepRecord& record, const StepObserver& observer);
+
+ private:
+  std::unique_ptr<detail::SampleSite> site_;
+};
 
 /// Issue 21: where the rank of the active constraint rows changed during a run. The rank is
 /// counted at the filter's threshold: row-scaled singular values σ_i > kRankReport σ_max (the

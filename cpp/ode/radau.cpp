@@ -64,6 +64,23 @@ double dense_one(const void* impl, int i, double s) {
   return out;
 }
 
+// The step's polynomial copied out (4 columns of ldc), evaluated by dense_all itself.
+void copy_eval(const DenseCopy& c, double s, double* out) {
+  const DenseImpl d{static_cast<Kernel>(c.kernel_), c.n_, c.cont_.data(), c.ldc_, c.a_, c.b_};
+  dense_all(&d, s, out);
+}
+
+void copy_all(const void* impl, DenseCopy& out) {
+  const auto* d = static_cast<const DenseImpl*>(impl);
+  out.cont_.assign(d->cont, d->cont + static_cast<std::ptrdiff_t>(4) * d->ldc);
+  out.n_ = d->n;
+  out.ldc_ = d->ldc;
+  out.a_ = d->told;
+  out.b_ = d->tnew;
+  out.kernel_ = static_cast<int>(d->kernel);
+  out.eval_ = &copy_eval;
+}
+
 // Records why a callback failed; called inside a catch handler, it must not throw itself.
 void record_error(CallContext* c, const char* who, double t) noexcept {
   try {
@@ -125,6 +142,7 @@ extern "C" void radau_solout_trampoline(const int* n, const double* told, const 
   info.impl_ = &impl;
   info.impl_dense_ = &dense_all;
   info.impl_dense1_ = &dense_one;
+  info.impl_copy_ = &copy_all;
   try {
     switch ((*c->on_step)(info)) {
       case StepAction::proceed: *irtrn = 0; break;

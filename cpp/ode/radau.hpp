@@ -110,6 +110,24 @@ struct RadauStats {
   long event_evals = 0;          ///< evaluations of the event functions
 };
 
+/// A step's dense output kept beyond the step callback (StepInfo::copy_dense): the polynomial's
+/// coefficients copied out of the integrator's work array, evaluated by the same routine as
+/// StepInfo::dense, so that its values are the same bit for bit, on any thread.
+class DenseCopy {
+ public:
+  /// The polynomial at s into out[0..n).
+  void dense(double s, double* out) const { eval_(*this, s, out); }
+  int n() const { return n_; }
+  bool empty() const { return eval_ == nullptr; }
+
+  // Internal: filled by the integrator that made the step.
+  std::vector<double> cont_;
+  int n_ = 0, ldc_ = 0;
+  double a_ = 0.0, b_ = 0.0;  ///< the integrator's two scalars of the step (its start; h or end)
+  int kernel_ = 0;            ///< the Kernel that made it (its own dense routine evaluates it)
+  void (*eval_)(const DenseCopy& self, double s, double* out) = nullptr;
+};
+
 /// What the step callback sees after every accepted step [t_prev, t].
 class StepInfo {
  public:
@@ -123,11 +141,14 @@ class StepInfo {
   void dense(double s, double* out) const;
   /// One component of the dense output at s.
   double dense(int i, double s) const;
+  /// A copy of this step's dense output that outlives the call (its storage is reused).
+  void copy_dense(DenseCopy& out) const { impl_copy_(impl_, out); }
 
   // Internal: the kernel sets these so dense() can evaluate the polynomial.
   const void* impl_ = nullptr;
   void (*impl_dense_)(const void* impl, double s, double* out) = nullptr;
   double (*impl_dense1_)(const void* impl, int i, double s) = nullptr;
+  void (*impl_copy_)(const void* impl, DenseCopy& out) = nullptr;
 };
 
 enum class StepAction {

@@ -86,6 +86,36 @@ class SieveMonitor final : public sim::ClientMonitor {
     rolling_.active = set_.contact && set_.rolling;
   }
 
+  // The stop (the roller left the deck: check) on the integrating thread; the rest, which only
+  // reads (observe), behind it (issue 23: sim::ClientMonitor::deferred).
+  bool deferred() const override { return true; }
+
+  bool check(const mech::StepView& v) override {
+    if (v.t == v.t_prev) return true;  // the consistent initial state
+    // The roller's contact point must stay on the deck, xi in [-a, a] (docs/sieve.md): beyond
+    // it the model (a roller on an endless plane) no longer describes the machine. Only q is
+    // read: the dense output's (v.state), the same values as v.sample's q.
+    const double deck = std::abs(set_.a);
+    const int is = at_.s;
+    auto off_deck = [&](double t) {
+      v.state(t, cq_, cqd_);
+      return std::abs(cq_(is)) > deck;
+    };
+    if (off_deck(v.t)) {
+      double lo = v.t_prev, hi = v.t;
+      for (int it = 0; it < 60 && hi - lo > 1e-13 * std::max(1.0, std::abs(hi)); ++it) {
+        const double m = 0.5 * (lo + hi);
+        if (off_deck(m)) hi = m; else lo = m;
+      }
+      stop_t_ = hi;
+      stop_reason_ = "the roller left the deck at t = " + format_significant(hi, 9) +
+                     " s (|s| > a = " + format_significant(deck, 6) + " m)";
+      return false;
+    }
+    return true;
+  }
+
+  // Everything but the stop: the whole run's verdicts, the window's signals.
   bool observe(const mech::StepView& v) override {
     if (v.t == v.t_prev) {  // the consistent initial state
       const mech::Sample s0 = v.at(v.t);
@@ -94,22 +124,6 @@ class SieveMonitor final : public sim::ClientMonitor {
       ru_scale_ = std::abs(ru(s0));
       fstar_prev_ = fstar(s0);
       return true;
-    }
-    // The roller's contact point must stay on the deck, xi in [-a, a] (docs/sieve.md): beyond
-    // it the model (a roller on an endless plane) no longer describes the machine.
-    const double deck = std::abs(set_.a);
-    const int is = at_.s;
-    auto off_deck = [deck, is](const mech::Sample& x) { return std::abs(x.q(is)) > deck; };
-    if (off_deck(v.sample(v.t))) {
-      double lo = v.t_prev, hi = v.t;
-      for (int it = 0; it < 60 && hi - lo > 1e-13 * std::max(1.0, std::abs(hi)); ++it) {
-        const double m = 0.5 * (lo + hi);
-        if (off_deck(v.sample(m))) hi = m; else lo = m;
-      }
-      stop_t_ = hi;
-      stop_reason_ = "the roller left the deck at t = " + format_significant(hi, 9) +
-                     " s (|s| > a = " + format_significant(deck, 6) + " m)";
-      return false;
     }
     // Whole run: the step's end, and its midpoint too when an end is near a violation (R_u
     // below a quarter of its largest value so far, or f* above 3/4 of f): a smooth signal
@@ -197,6 +211,8 @@ class SieveMonitor final : public sim::ClientMonitor {
   }
 
  private:
+  Eigen::VectorXd cq_, cqd_;  // check()'s state (the integrating thread's)
+
   static nlohmann::json null_if_nan(double v) {
     return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
   }

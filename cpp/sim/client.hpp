@@ -28,6 +28,14 @@ class ClientMonitor {
   /// Returns false to end the run there (e.g. the sieve's roller left the deck); the run then
   /// writes what was computed up to stop_time(), marked incomplete, and fails with stop_reason().
   virtual bool observe(const mech::StepView& v) = 0;
+  /// Issue 23: true splits the monitor in two. check() is the part that may end the run; it is
+  /// called on the integrating thread, at t0 and after every accepted step. observe() then only
+  /// reads (it must not return false); it is called after check() for the same step (unless
+  /// check() ended the run), on the generic monitor's thread behind the integration, with the
+  /// same samples as in place (mech::DeferredObserver).
+  virtual bool deferred() const { return false; }
+  /// With deferred(): false ends the run at this step (stop_time(), stop_reason()).
+  virtual bool check(const mech::StepView& v) { return true; }
   virtual double stop_time() const { return 0.0; }
   virtual std::string stop_reason() const { return ""; }
   /// Adds the client's keys to result.additions at the end of the run. `result` holds the

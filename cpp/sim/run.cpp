@@ -9,6 +9,8 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -19,6 +21,7 @@
 #include "common/files.hpp"
 #include "common/format.hpp"
 #include "common/location.hpp"
+#include "mech/deferred_observer.hpp"
 #include "mech/dynamics.hpp"
 #include "mech/projection.hpp"
 #include "mech/simulation.hpp"
@@ -548,7 +551,8 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     sres = mech::simulate_switching(
         *model, q0, qd0, so, sw,
         [&](const mech::StepView& v, const std::vector<mech::ContactMode>& modes) {
-          if (client_mon && !client_mon->observe(v)) {
+          if (client_mon && !(client_mon->deferred() ? client_mon->check(v) && client_mon->observe(v)
+                                                     : client_mon->observe(v))) {
             stopped_by_client = true;
             return false;
           }
@@ -556,14 +560,33 @@ RunResult run_case(const Case& c, const RunOptions& options) {
           return mon.observe(v);
         });
   } else {
+    // The generic monitor only reads (it never stops the run): it observes on a thread of its
+    // own, behind the integration (issue 23). The client's monitor may stop the run, and stays.
+    // A client monitor split in two (ClientMonitor::deferred) goes along with its observe();
+    // its check(), which may end the run, stays here.
+    ClientMonitor* const client_reads =
+        client_mon && client_mon->deferred() ? client_mon.get() : nullptr;
+    mech::DeferredObserver deferred(
+        [&mon, client_reads](const mech::StepView& v) {
+          if (client_reads && !client_reads->observe(v)) return false;
+          return mon.observe(v);
+        },
+        options.deferred_monitor);
     static_cast<mech::SimulationResult&>(sres) = mech::simulate(
         *model, q0, qd0, so, [&](const mech::StepView& v) {
-          if (client_mon && !client_mon->observe(v)) {
+          if (client_mon && !(client_reads ? client_mon->check(v) : client_mon->observe(v))) {
             stopped_by_client = true;
             return false;
           }
-          return mon.observe(v);
+          return deferred.push(v);
         });
+    deferred.finish();
+    if (std::string e = deferred.error(); !e.empty() && !stopped_by_client &&
+        (sres.status == mech::SimulationStatus::success ||
+         sres.status == mech::SimulationStatus::stopped_by_observer)) {
+      sres.status = mech::SimulationStatus::observer_error;
+      sres.message = std::move(e);
+    }
   }
   const mech::SimulationResult& res = sres;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

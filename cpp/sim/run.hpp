@@ -65,6 +65,10 @@ struct RunOptions {
   OutputDirectory* directory = nullptr;
   /// Internal (the Python module, cpp/python): also keeps in memory what the files hold.
   Kept* keep = nullptr;
+  /// Internal (issue 23): the generic monitor (time-series rows, window extremes) observes the
+  /// steps on a thread of its own (mech::DeferredObserver), with the same values; false
+  /// observes them on the integrating thread (the tests compare the two).
+  bool deferred_monitor = true;
 };
 
 /// The fewest integration steps that any method can take over `duration` s of a model's
