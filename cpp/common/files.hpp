@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "common/error.hpp"
 
@@ -132,6 +133,10 @@ class OutputDirectory {
   std::filesystem::path dir_, staging_;
   std::unique_ptr<DirectoryLock> lock_;
   bool committed_ = false;
+  /// Files written by write() whose fsync waits for commit(): one journal commit then makes
+  /// them all durable, instead of one per file on the way (a run's model.toml, written before
+  /// the integration, cost the paper's case 6.7 ms of wall time there).
+  std::vector<std::filesystem::path> unsynced_;
 };
 
 }  // namespace pcsim

@@ -64,10 +64,15 @@ bool DeferredObserver::push(const StepView& v) {
   }
   std::unique_lock<std::mutex> lock(mutex_);
   if (failed_ || done_) return false;
-  while (count_ == kCapacity) {
-    pusher_waiting_ = true;
-    space_cv_.wait(lock);
-    pusher_waiting_ = false;
+  if (count_ == kCapacity) {
+    // Full: wait until the observer has caught up by half the ring, not for one slot (one
+    // wake-up per step, each a system call, would set the pace of both threads).
+    if (worker_waiting_) work_cv_.notify_one();
+    while (count_ > kCapacity / 2) {
+      pusher_waiting_ = true;
+      space_cv_.wait(lock);
+      pusher_waiting_ = false;
+    }
   }
   // The slot past the last one in flight: the observer's thread does not touch it until count_
   // says so.
@@ -138,7 +143,7 @@ void DeferredObserver::work() {
     }
     head_ = (head_ + 1) % kCapacity;
     --count_;
-    if (pusher_waiting_) space_cv_.notify_one();
+    if (pusher_waiting_ && count_ <= kCapacity / 2) space_cv_.notify_one();
   }
 }
 

@@ -45,14 +45,15 @@ class DeferredObserver {
   /// Whether the steps go to a thread of their own.
   bool threaded() const { return threaded_; }
 
+  /// Steps in flight at most (beyond, the integrating thread waits until half of them are
+  /// observed), and the batch after which a waiting observer thread is woken (one wake-up per
+  /// step would cost a system call each).
+  static constexpr std::size_t kCapacity = 256, kBatch = 16;
+
  private:
   void work();
   bool observe_here(const StepView& v);
   void drain(std::unique_lock<std::mutex>& lock);
-
-  /// Steps in flight at most (the integrating thread waits beyond), and the batch after which
-  /// a waiting observer thread is woken (one wake-up per step would cost a system call each).
-  static constexpr std::size_t kCapacity = 64, kBatch = 8;
 
   StepObserver observer_;
   bool threaded_;
