@@ -178,6 +178,8 @@ class Dynamics {
   ModelIssue fail(ModelIssue issue, std::string message);
   ModelIssue evaluate_sparse_checks(const ActiveSet& active, double t, const Eigen::VectorXd& q,
                                     const Eigen::VectorXd& qd);
+  ModelIssue evaluate_finish(const ActiveSet& active, double t, const Eigen::VectorXd& q,
+                             const Eigen::VectorXd& qd);
   ModelIssue factorize_mass();
   ModelIssue null_basis();
   /// The names of the active constraints whose rows of g take part in a linear dependency
