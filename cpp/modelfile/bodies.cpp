@@ -862,7 +862,8 @@ JointMotion joint_motion(Expander& x, const Joint& j, const std::string& dof, co
     }
     m.position = j.coordinates[i];
     m.rate = velocity_of(j.coordinates[i]);
-    m.rotation = j.type == "revolute" || (j.type == "planar" && i == 2);
+    m.rotation = j.type == "revolute" || (j.type == "planar" && i == 2) ||
+                 (j.type == "cylindrical" && i == 0);
     const Body& b1 = x.body(j.body1, key);
     m.planar = x.kind(x.body(j.body2, key)).planar();
     m.axes = x.marker_axes(b1, x.marker(b1, j.marker1, key));
@@ -1145,7 +1146,11 @@ void Drive::rows(Expander& x, Joint& j) const {
   const std::string l = "lambda_" + r.name;
   if (type == "revolute") j.moment[2] = l;
   else if (type == "prismatic") j.force[0] = l;
-  else if (type == "planar") {
+  else if (type == "cylindrical") {  // (spatial) its angle about z, its travel along z
+    if (index == 0) j.moment[2] = l;
+    else j.force[2] = l;
+    j.planar = false;  // the spatial columns F_x..F_z, M_x..M_z
+  } else if (type == "planar") {
     if (index < 2) j.force[index] = l;
     else j.moment[2] = l;
   } else {

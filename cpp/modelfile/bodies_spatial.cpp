@@ -316,21 +316,25 @@ class SpatialPointOnLine : public JointType {
   }
 };
 
-// A spatial tree joint's bodies, markers and its one coordinate (`what` names it in messages).
+// A spatial tree joint's bodies, markers and its coordinates (`what` names them in messages):
+// c the first (a revolute's angle, a prismatic's travel, a cylindrical's angle), c2 the second
+// (a cylindrical's travel).
 struct TreeJoint {
   const Body* b1;
   const Body* b2;
   const Marker* m1;
   const Marker* m2;
-  std::string c;
+  std::string c, c2;
 };
-TreeJoint tree_joint(Expander& x, const Joint& j, const std::string& what) {
-  TreeJoint t{&x.body(j.body1, j.key + ".body1"), &x.body(j.body2, j.key + ".body2"), nullptr, nullptr, ""};
+TreeJoint tree_joint(Expander& x, const Joint& j, const std::string& what, std::size_t count = 1) {
+  TreeJoint t{&x.body(j.body1, j.key + ".body1"), &x.body(j.body2, j.key + ".body2"), nullptr, nullptr, "", ""};
   t.m1 = &x.marker(*t.b1, j.marker1, j.key + ".marker1");
   t.m2 = &x.marker(*t.b2, j.marker2, j.key + ".marker2");
-  if (j.coordinates.size() != 1 || j.coordinates[0].empty())
-    x.fail(j.key + ".coordinates", "one coordinate name, " + what);
+  bool named = j.coordinates.size() == count;
+  for (const std::string& c : j.coordinates) named = named && !c.empty();
+  if (!named) x.fail(j.key + ".coordinates", (count == 1 ? "one coordinate name, " : "two coordinate names, ") + what);
   t.c = j.coordinates[0];
+  if (count > 1) t.c2 = j.coordinates[1];
   return t;
 }
 
@@ -436,6 +440,54 @@ class SpatialPrismatic : public JointType {
     rel.A = Arel;
     rel.r = rel_r;
     rel.v = vrel;
+    return p;
+  }
+};
+
+// Cylindrical joint: marker2's origin on marker1's z axis, the z axes parallel (rows <joint>_x,
+// _y, _ax, _ay); as a tree joint (`coordinates = ["angle", "travel"]`) it places body2 by the
+// angle of marker2's x axis from marker1's about their common z axis and the travel of
+// marker2's origin along it (no rows, no Euler parameters for body2: a sleeve that turns and
+// slides on its shaft).
+class SpatialCylindrical : public JointType {
+ public:
+  std::string name() const override { return "cylindrical"; }
+  int tree_coordinates(bool) const override { return 2; }
+  void rows(Expander& x, Joint& j) const override { pair_rows(x, j, {true, true, false, true, false}); }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    const TreeJoint t = tree_joint(x, j, "the joint's angle and travel (a cylindrical tree joint)", 2);
+    const Body& b1 = *t.b1;
+    const Marker& m1 = *t.m1;
+    const Marker& m2 = *t.m2;
+    const std::string& th = t.c;
+    const std::string& s = t.c2;
+    Pose p;
+    const Mat3 Arel = tree_rotation(x, j, t, Mat3::rot_z(th), p);
+    const Vec3 z1 = column(m1.R, 2);  // the axis in body1's frame
+    // body2's origin in body1's frame: marker1's origin + s z1 − Arel (marker2's position)
+    const Vec3 arm = scale("-1", apply(Arel, m2.p));  // from marker2's origin to body2's
+    const Vec3 rel_r = add(add(m1.p, scale(s, z1)), arm);
+    const Vec3 r2 = add(b1.pose.r, apply(b1.pose.A, rel_r));
+    for (int a = 0; a < 3; ++a) p.r[a] = x.define(t.b2->name + "_" + "xyz"[a], r2[a], j.key);
+    LinVec3 wrel_parent, slide;  // θ̇ z1, ṡ z1: body1's components
+    for (int a = 0; a < 3; ++a) {
+      wrel_parent[a] = scale(z1[a], velocity_of(th));
+      slide[a] = scale(z1[a], velocity_of(s));
+    }
+    p.w = add(b1.pose.w, apply(b1.pose.A, wrel_parent));
+    LinVec3 w2b_own;
+    for (int a = 0; a < 3; ++a) w2b_own[a] = scale(m2.R.m[a][2], velocity_of(th));  // θ̇ R2 ẑ
+    p.w_body = add(apply_transposed(Arel, b1.pose.w_body), w2b_own);
+    // V2 = V1 + ω1 × A1 (m1 + s z1) + A1 ṡ z1 + ω2 × (−A2 m2)
+    p.v = add(add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, add(m1.p, scale(s, z1))))),
+                  apply(b1.pose.A, slide)),
+              cross(p.w, scale("-1", apply(p.A, m2.p))));
+    tree_rates(x, j, t, p, Arel, column(m2.R, 2));  // θ̇ R2 ẑ
+    rel.A = Arel;
+    rel.r = rel_r;
+    rel.w = wrel_parent;
+    rel.w_body = w2b_own;
+    rel.v = add(slide, cross(wrel_parent, arm));
     return p;
   }
 };
@@ -684,7 +736,7 @@ void register_spatial_bodies() {
   register_body_kind(std::make_shared<SpatialBody>());
   // Lower pairs: rows in the joint frame (marker1's axes).
   register_joint_type(std::make_shared<SpatialPair<true, true, true, false, false>>("spherical"));
-  register_joint_type(std::make_shared<SpatialPair<true, true, false, true, false>>("cylindrical"));
+  register_spatial_joint_type(std::make_shared<SpatialCylindrical>());
   register_joint_type(std::make_shared<SpatialPointOnPlane>());
   register_joint_type(std::make_shared<SpatialUniversal>());
   register_joint_type(std::make_shared<SpatialWheel>());

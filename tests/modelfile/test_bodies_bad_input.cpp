@@ -273,3 +273,32 @@ BOOST_AUTO_TEST_CASE(a_spatial_bushing_vector_of_the_wrong_length_is_refused_nam
   expect_error(kSpatial + "[model.force.mount]\ntype = \"bushing\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nstiffness = [1, 2]\n",
                {"model.force.mount.stiffness", "a list of 3 expressions"});
 }
+
+// A cylindrical tree joint places its body by two coordinates (its angle, its travel): one is
+// refused naming the key and the count, as is a drive naming a coordinate it does not have.
+BOOST_AUTO_TEST_CASE(a_cylindrical_tree_joint_needs_its_two_coordinates) {
+  const std::string sleeve = R"([model]
+name = "m"
+[model.body.s]
+kind = "spatial"
+mass = 1.0
+inertia = [0.1, 0.1, 0.1]
+[model.joint.c]
+type = "cylindrical"
+body2 = "s"
+)";
+  expect_error(sleeve + "coordinates = [\"psi\"]\n",
+               {"model.joint.c.coordinates", "a list of 2 coordinate name(s) for a cylindrical joint"});
+  BOOST_CHECK_EQUAL(error_of(sleeve + "coordinates = [\"psi\", \"z\"]\n"), "");
+  expect_error(sleeve + "coordinates = [\"psi\", \"z\"]\n[model.joint.d]\ntype = \"drive\"\njoint = \"c\"\n"
+                        "coordinate = \"x\"\nmotion = \"t\"\n",
+               {"model.joint.d.coordinate", "one of the joint's coordinates (psi, z), got 'x'"});
+  // A drive on either coordinate: its reaction is the torque about (force along) the axis, z.
+  for (const std::string c : {"psi", "z"}) {
+    const auto desc = load_model_text(sleeve + "coordinates = [\"psi\", \"z\"]\n[model.joint.d]\ntype = \"drive\"\n"
+                                                "joint = \"c\"\ncoordinate = \"" + c + "\"\nmotion = \"t\"\n", "m.toml");
+    bool found = false;
+    for (const auto& o : desc->outputs()) found = found || o.name == (c == "psi" ? "M_d_z" : "F_d_z");
+    BOOST_TEST(found, c);
+  }
+}
