@@ -978,6 +978,65 @@ g = [0, 0, -9.81]
   BOOST_TEST(err_M < 1e-10);
 }
 
+// Spring-dampers on a cylindrical tree joint's coordinates: a sleeve on a vertical shaft with a
+// spring along it (k, rest 0) and a rotational damper about it (c). Closed form: released at
+// rest at z0, z = −m g/k + (z0 + m g/k) cos(√(k/m) t); turning at ψ̇0, ψ̇ = ψ̇0 e^(−c t/J), J the
+// sleeve's moment about the shaft. Over 2 s, to 1e-8.
+BOOST_AUTO_TEST_CASE(spring_dampers_act_on_a_cylindrical_tree_joints_travel_and_angle) {
+  const double m = 2.0, g = 9.81, k = 800.0, c = 0.03, J = 0.01, z0 = 0.05, wd0 = 4.0;
+  const std::string text = R"([model]
+name = "sleeve_springs"
+[model.body.ground.markers]
+shaft = [-50, 70, 3]
+[model.body.sleeve]
+kind = "spatial"
+mass = 2.0
+inertia = [0.02, 0.02, 0.01]
+[model.joint.c]
+type = "cylindrical"
+marker1 = "shaft"
+body2 = "sleeve"
+coordinates = ["psi", "z"]
+[model.force.spring]
+type = "joint_spring_damper"
+joint = "c"
+coordinate = "z"
+stiffness = 800.0
+rest = 0.0
+[model.force.damper]
+type = "joint_spring_damper"
+joint = "c"
+coordinate = "psi"
+damping = 0.03
+[model.force.gravity]
+type = "gravity"
+g = [0, 0, -9.81]
+)";
+  const auto desc = load_model_text(text, "sleeve_springs.toml");
+  const auto model = desc->instantiate({});
+  const auto& names = desc->coordinates();
+  const int iz = name_index(names, "z"), ip = name_index(names, "psi");
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(2), qd = q;
+  q[iz] = z0;
+  qd[ip] = wd0;
+  mech::SimulationOptions o;
+  o.t_end = 2.0;
+  o.rtol = o.atol = 1e-12;
+  double err_z = 0, err_w = 0;
+  const double om = std::sqrt(k / m), zs = -m * g / k;
+  const auto r = mech::simulate(*model, q, qd, o, [&](const mech::StepView& v) {
+    const mech::Sample& s = v.sample(v.t);
+    err_z = std::max(err_z, std::abs(s.q[iz] - (zs + (z0 - zs) * std::cos(om * v.t))));
+    err_w = std::max(err_w, std::abs(s.qd[ip] - wd0 * std::exp(-c * v.t / J)));
+    return true;
+  });
+  BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+  BOOST_TEST_MESSAGE("sleeve on springs: |z - closed form| " << err_z << " m, |psi_d - closed form| " << err_w << " rad/s");
+  BOOST_TEST(err_z < 1e-8);
+  BOOST_TEST(err_w < 1e-8);
+  BOOST_TEST(r.qd_end[ip] < 0.01 * wd0);  // the damper took 6 time constants
+}
+
 BOOST_AUTO_TEST_CASE(bad_inertia_tensors_are_rejected_naming_the_key) {
   auto load = [](const std::string& inertia) {
     return input_error_of([&] {
