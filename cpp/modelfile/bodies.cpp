@@ -863,13 +863,19 @@ JointMotion joint_motion(Expander& x, const Joint& j, const std::string& dof, co
     m.position = j.coordinates[i];
     m.rate = velocity_of(j.coordinates[i]);
     m.rotation = j.type == "revolute" || (j.type == "planar" && i == 2) ||
-                 (j.type == "cylindrical" && i == 0);
+                 (j.type == "cylindrical" && i == 0) || j.type == "universal";
     const Body& b1 = x.body(j.body1, key);
     m.planar = x.kind(x.body(j.body2, key)).planar();
     m.axes = x.marker_axes(b1, x.marker(b1, j.marker1, key));
     // The axis: z for a rotation; a planar joint's travels along marker1's x and y; a
     // prismatic joint's along x in the plane, along z in space.
-    m.axis = m.rotation ? 2 : j.type == "planar" ? static_cast<int>(i) : m.planar ? 0 : 2;
+    // A universal joint's angles: about its cross's arms, marker1's x (α) and marker2's y (β,
+    // an arm that turns with α: its reaction column M_y is the torque about that arm).
+    m.axis = j.type == "universal" ? static_cast<int>(i)
+             : m.rotation          ? 2
+             : j.type == "planar"  ? static_cast<int>(i)
+             : m.planar            ? 0
+                                   : 2;
     return m;
   }
   const bool rows = j.type == "revolute" || j.type == "prismatic" || j.type == "cylindrical";
@@ -1150,6 +1156,9 @@ void Drive::rows(Expander& x, Joint& j) const {
     if (index == 0) j.moment[2] = l;
     else j.force[2] = l;
     j.planar = false;  // the spatial columns F_x..F_z, M_x..M_z
+  } else if (type == "universal") {  // the torques about the cross's arms (joint_motion)
+    j.moment[index] = l;
+    j.planar = false;
   } else if (type == "planar") {
     if (index < 2) j.force[index] = l;
     else j.moment[2] = l;

@@ -351,18 +351,24 @@ Mat3 tree_rotation(Expander& x, const Joint& j, const TreeJoint& t, const Mat3& 
   return Arel;
 }
 
-// Body2's named rates (define_rates), its body-axis angular velocity ω'2 = Arelᵀ ω'1 + ċ own
-// written in body1's named rates when body1 is spatial (a short T); own: the joint's own
-// rotation per unit rate of its coordinate, body2's axes (0 for a travel).
+// The joint's own rotation: per unit rate of a coordinate, in body2's axes (none for a travel).
+struct OwnRate {
+  Vec3 per_unit;
+  std::string coordinate;
+};
+
+// Body2's named rates (define_rates), its body-axis angular velocity ω'2 = Arelᵀ ω'1 + Σ ċ own
+// written in body1's named rates when body1 is spatial (a short T).
 void tree_rates(Expander& x, const Joint& j, const TreeJoint& t, const Pose& p, const Mat3& Arel,
-                const Vec3& own) {
+                const std::vector<OwnRate>& own) {
   std::array<Expr, 3> wt;
   const bool named = !t.b1->ground && !x.kind(*t.b1).planar();
   for (int i = 0; i < 3; ++i) {
     std::vector<Expr> terms;
     if (named)
       for (int k = 0; k < 3; ++k) terms.push_back(mul(Arel.m[k][i], t.b1->name + "_w" + std::to_string(k + 1)));
-    if (!is_zero(own[i])) terms.push_back(mul(own[i], t.c + "_d"));
+    for (const OwnRate& o : own)
+      if (!is_zero(o.per_unit[i])) terms.push_back(mul(o.per_unit[i], o.coordinate + "_d"));
     wt[static_cast<std::size_t>(i)] = sum(terms);
   }
   define_rates(x, *t.b2, p, j.key, (named || t.b1->ground) ? &wt : nullptr);
@@ -399,7 +405,7 @@ class SpatialRevolute : public JointType {
     p.w_body = add(apply_transposed(Arel, b1.pose.w_body), w2b_own);
     p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, m1.p))),
               cross(p.w, scale("-1", apply(p.A, m2.p))));
-    tree_rates(x, j, t, p, Arel, column(m2.R, 2));  // θ̇ R2 ẑ
+    tree_rates(x, j, t, p, Arel, {{column(m2.R, 2), th}});  // θ̇ R2 ẑ
     rel.A = Arel;
     rel.r = sub(m1.p, apply(Arel, m2.p));
     rel.w = wrel_parent;
@@ -436,7 +442,7 @@ class SpatialPrismatic : public JointType {
     p.w = b1.pose.w;
     p.w_body = apply_transposed(Arel, b1.pose.w_body);
     p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, rel_r))), apply(b1.pose.A, vrel));
-    tree_rates(x, j, t, p, Arel, Vec3{});  // no rotation of its own
+    tree_rates(x, j, t, p, Arel, {});  // no rotation of its own
     rel.A = Arel;
     rel.r = rel_r;
     rel.v = vrel;
@@ -482,7 +488,7 @@ class SpatialCylindrical : public JointType {
     p.v = add(add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, add(m1.p, scale(s, z1))))),
                   apply(b1.pose.A, slide)),
               cross(p.w, scale("-1", apply(p.A, m2.p))));
-    tree_rates(x, j, t, p, Arel, column(m2.R, 2));  // θ̇ R2 ẑ
+    tree_rates(x, j, t, p, Arel, {{column(m2.R, 2), th}});  // θ̇ R2 ẑ
     rel.A = Arel;
     rel.r = rel_r;
     rel.w = wrel_parent;
@@ -492,17 +498,79 @@ class SpatialCylindrical : public JointType {
   }
 };
 
+// Rotations about x and y by a symbolic angle (Mat3::rot_z's kin).
+Mat3 rot_x(const Expr& a) {
+  Mat3 r;
+  const std::string c = "cos(" + a + ")", s = "sin(" + a + ")";
+  r.m[1][1] = c;
+  r.m[1][2] = neg(s);
+  r.m[2][1] = s;
+  r.m[2][2] = c;
+  return r;
+}
+Mat3 rot_y(const Expr& b) {
+  Mat3 r;
+  const std::string c = "cos(" + b + ")", s = "sin(" + b + ")";
+  r.m[0][0] = c;
+  r.m[0][2] = s;
+  r.m[2][0] = neg(s);
+  r.m[2][2] = c;
+  return r;
+}
+
 // Universal joint: the markers coincide; the cross's arms are marker1's x axis (on body1) and
-// marker2's y axis (on body2), kept perpendicular (row <joint>_cross: u1 · v2 = 0).
+// marker2's y axis (on body2), kept perpendicular (row <joint>_cross: u1 · v2 = 0). As a tree
+// joint (`coordinates = ["alpha", "beta"]`) it places body2 by the turn α of the cross about
+// marker1's x and the turn β of marker2's frame about the cross's other arm (marker2's y):
+// marker2's frame = marker1's · Rx(α) Ry(β) (no rows, no Euler parameters for body2; the
+// cross's arms stay perpendicular by construction).
 class SpatialUniversal : public JointType {
  public:
   std::string name() const override { return "universal"; }
+  int tree_coordinates(bool) const override { return 2; }
   void rows(Expander& x, Joint& j) const override {
     const Frames f = frames(x, j);
     Vec3 F, M;
     for (int i = 0; i < 3; ++i) force_row(j, f, i, F);
     angle_row(j, "cross", column(f.E1, 0), column(f.E2, 1), M);
     set_reaction(j, f, F, M);
+  }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    const TreeJoint t = tree_joint(x, j, "the cross's two angles (a universal tree joint)", 2);
+    const Body& b1 = *t.b1;
+    const Marker& m1 = *t.m1;
+    const Marker& m2 = *t.m2;
+    const std::string& al = t.c;
+    const std::string& be = t.c2;
+    Pose p;
+    const Mat3 Arel = tree_rotation(x, j, t, multiply(rot_x(al), rot_y(be)), p);
+    const Vec3 arm = scale("-1", apply(Arel, m2.p));  // from the joint's centre to body2's origin
+    const Vec3 rel_r = add(m1.p, arm);
+    const Vec3 r2 = add(b1.pose.r, apply(b1.pose.A, rel_r));
+    for (int a = 0; a < 3; ++a) p.r[a] = x.define(t.b2->name + "_" + "xyz"[a], r2[a], j.key);
+    // The relative angular velocity α̇ x + β̇ Rx(α) y in marker1's axes; in body1's, R1 of it.
+    const Vec3 arm1 = column(m1.R, 0);                                       // x1
+    const Vec3 arm2 = apply(m1.R, Vec3{"0", "cos(" + al + ")", "sin(" + al + ")"});  // Rx(α) y
+    LinVec3 wrel_parent;
+    for (int a = 0; a < 3; ++a)
+      wrel_parent[a] = add(scale(arm1[a], velocity_of(al)), scale(arm2[a], velocity_of(be)));
+    p.w = add(b1.pose.w, apply(b1.pose.A, wrel_parent));
+    // The same in body2's axes: R2 (α̇ Ry(β)ᵀ x + β̇ y) = R2 (α̇ (cos β, 0, sin β) + β̇ (0, 1, 0)).
+    const Vec3 own_a = apply(m2.R, Vec3{"cos(" + be + ")", "0", "sin(" + be + ")"});
+    const Vec3 own_b = column(m2.R, 1);
+    LinVec3 w2b_own;
+    for (int a = 0; a < 3; ++a)
+      w2b_own[a] = add(scale(own_a[a], velocity_of(al)), scale(own_b[a], velocity_of(be)));
+    p.w_body = add(apply_transposed(Arel, b1.pose.w_body), w2b_own);
+    p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, m1.p))),
+              cross(p.w, scale("-1", apply(p.A, m2.p))));
+    tree_rates(x, j, t, p, Arel, {{own_a, al}, {own_b, be}});
+    rel.A = Arel;
+    rel.r = rel_r;
+    rel.w = wrel_parent;
+    rel.w_body = w2b_own;
+    rel.v = cross(wrel_parent, arm);
+    return p;
   }
 };
 
@@ -738,7 +806,7 @@ void register_spatial_bodies() {
   register_joint_type(std::make_shared<SpatialPair<true, true, true, false, false>>("spherical"));
   register_spatial_joint_type(std::make_shared<SpatialCylindrical>());
   register_joint_type(std::make_shared<SpatialPointOnPlane>());
-  register_joint_type(std::make_shared<SpatialUniversal>());
+  register_spatial_joint_type(std::make_shared<SpatialUniversal>());
   register_joint_type(std::make_shared<SpatialWheel>());
   register_spatial_joint_type(std::make_shared<SpatialRevolute>());
   register_spatial_joint_type(std::make_shared<SpatialPrismatic>());

@@ -289,6 +289,11 @@ body2 = "s"
 )";
   expect_error(sleeve + "coordinates = [\"psi\"]\n",
                {"model.joint.c.coordinates", "a list of 2 coordinate name(s) for a cylindrical joint"});
+  std::string cross = sleeve;
+  cross.replace(cross.find("\"cylindrical\""), 13, "\"universal\"");
+  expect_error(cross + "coordinates = [\"al\", \"be\", \"ga\"]\n",
+               {"model.joint.c.coordinates", "a list of 2 coordinate name(s) for a universal joint"});
+  BOOST_CHECK_EQUAL(error_of(cross + "coordinates = [\"al\", \"be\"]\n"), "");
   BOOST_CHECK_EQUAL(error_of(sleeve + "coordinates = [\"psi\", \"z\"]\n"), "");
   expect_error(sleeve + "coordinates = [\"psi\", \"z\"]\n[model.joint.d]\ntype = \"drive\"\njoint = \"c\"\n"
                         "coordinate = \"x\"\nmotion = \"t\"\n",
