@@ -561,9 +561,9 @@ RunResult run_case(const Case& c, const RunOptions& options) {
         });
   } else {
     // The generic monitor only reads (it never stops the run): it observes on a thread of its
-    // own, behind the integration (issue 23). The client's monitor may stop the run, and stays.
-    // A client monitor split in two (ClientMonitor::deferred) goes along with its observe();
-    // its check(), which may end the run, stays here.
+    // own, behind the integration (issue 23). The client's monitor may stop the run: it stays
+    // here, unless it is split in two (ClientMonitor::deferred); then its observe() goes along
+    // and only its check(), which may end the run, stays.
     ClientMonitor* const client_reads =
         client_mon && client_mon->deferred() ? client_mon.get() : nullptr;
     mech::DeferredObserver deferred(
