@@ -851,6 +851,10 @@ JointMotion joint_motion(Expander& x, const Joint& j, const std::string& dof, co
   JointMotion m;
   const std::string what = "'" + j.name + "' (" + j.type + ")";
   if (!j.coordinates.empty()) {  // a tree joint: its coordinate
+    if (j.type == "spherical")
+      x.fail(key, "a joint with a motion; the coordinates of the spherical joint " + what +
+                      " are Euler parameters, which no drive, gear or spring-damper acts on (place the "
+                      "body by revolute or universal joints, or use a bushing)");
     std::size_t i = 0;
     if (!dof.empty()) {
       auto it = std::find(j.coordinates.begin(), j.coordinates.end(), dof);
@@ -1127,6 +1131,9 @@ void Drive::rows(Expander& x, Joint& j) const {
       j.has_reaction = true;
       return;
     }
+    if (tj.type == "spherical")
+      x.fail(j.key + ".joint", "a joint with a motion to prescribe; the coordinates of the spherical joint '" + tj.name +
+                                   "' are Euler parameters (drive revolute or universal joints)");
     type = tj.type;
     if (auto c = t.get("coordinate")) {
       coordinate = x.string(*c, j.key + ".coordinate", "one of the joint's coordinates");

@@ -28,27 +28,34 @@ namespace {
 
 std::string e_name(const Body& b, int i) { return b.name + "_e" + std::to_string(i); }
 
-// G(e) (body rates) or E(e) (ground rates) entry (row r, column c) as a signed coordinate name.
-Expr rate_entry(const Body& b, bool ground, int r, int c) {
+// Four Euler parameters' names: a free body's NAME_e0..e3, or a spherical tree joint's
+// coordinates (marker2's frame relative to marker1's).
+using EulerNames = std::array<std::string, 4>;
+EulerNames e_names(const Body& b) { return {e_name(b, 0), e_name(b, 1), e_name(b, 2), e_name(b, 3)}; }
+
+// G(e) (body rates) or E(e) (ground rates) entry (row r, column c) as a signed coordinate name,
+// times 2: ω' = 2 G(e) ė, ω = 2 E(e) ė.
+Expr rate_entry(const EulerNames& e, bool ground, int r, int c) {
   // index of e and sign, per row, per column
   static const int Gi[3][4] = {{1, 0, 3, 2}, {2, 3, 0, 1}, {3, 2, 1, 0}};
   static const int Gs[3][4] = {{-1, 1, 1, -1}, {-1, -1, 1, 1}, {-1, 1, -1, 1}};
   static const int Es[3][4] = {{-1, 1, -1, 1}, {-1, 1, 1, -1}, {-1, -1, 1, 1}};
   const int sign = ground ? Es[r][c] : Gs[r][c];
-  const std::string n = e_name(b, Gi[r][c]);
+  const std::string& n = e[static_cast<std::size_t>(Gi[r][c])];
   return sign > 0 ? "2*" + n : "-2*" + n;
 }
 
 LinVec3 rates(const Body& b, bool ground) {
+  const EulerNames e = e_names(b);
   LinVec3 w;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) w[r] = add(w[r], scale(rate_entry(b, ground, r, c), velocity_of(e_name(b, c))));
+    for (int c = 0; c < 4; ++c) w[r] = add(w[r], scale(rate_entry(e, ground, r, c), velocity_of(e[static_cast<std::size_t>(c)])));
   return w;
 }
 
 // The rotation matrix A(e) as polynomial texts (the form exact for any e on |e| = 1).
-Mat3 rotation_texts(const Body& b) {
-  const std::string e0 = e_name(b, 0), e1 = e_name(b, 1), e2 = e_name(b, 2), e3 = e_name(b, 3);
+Mat3 rotation_texts(const EulerNames& e) {
+  const std::string &e0 = e[0], &e1 = e[1], &e2 = e[2], &e3 = e[3];
   Mat3 A;
   A.m[0][0] = e0 + "^2 + " + e1 + "^2 - " + e2 + "^2 - " + e3 + "^2";
   A.m[0][1] = "2*(" + e1 + "*" + e2 + " - " + e0 + "*" + e3 + ")";
@@ -60,6 +67,20 @@ Mat3 rotation_texts(const Body& b) {
   A.m[2][1] = "2*(" + e2 + "*" + e3 + " + " + e0 + "*" + e1 + ")";
   A.m[2][2] = e0 + "^2 - " + e1 + "^2 - " + e2 + "^2 + " + e3 + "^2";
   return A;
+}
+
+// |e|² − 1 (the norm row) and e·ė (the rate the regularization ½ k (e·ė)² squares).
+Expr norm_residual(const EulerNames& e) {
+  return e[0] + "^2 + " + e[1] + "^2 + " + e[2] + "^2 + " + e[3] + "^2 - 1";
+}
+Expr norm_rate(const EulerNames& e) {
+  std::vector<Expr> s;
+  for (const auto& n : e) s.push_back(n + "*" + n + "_d");
+  return sum(s);
+}
+// k = 4 trace(J)/3: with J = j I the Euler-parameter block of M is 4 j (I − e eᵀ) + k e eᵀ = 4 j I.
+Expr norm_stiffness(const Body& b) {
+  return "4*(" + sum({b.inertia.m[0][0], b.inertia.m[1][1], b.inertia.m[2][2]}) + ")/3";
 }
 
 std::string a_name(const Body& b, int i, int j) {
@@ -165,16 +186,14 @@ class SpatialBody : public BodyKind {
   }
 
   void own_constraints(Expander& x, const Body& b) const override {
-    const Mat3 A = rotation_texts(b);
+    const Mat3 A = rotation_texts(e_names(b));
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) x.define(a_name(b, i, j), A.m[i][j], b.key);
     define_rates(x, b, b.pose, b.key);
-    std::vector<Expr> s;
-    for (int i = 0; i < 4; ++i) s.push_back(e_name(b, i) + "*" + e_name(b, i) + "_d");
-    x.define(b.name + "_s", sum(s), b.key);
+    x.define(b.name + "_s", norm_rate(e_names(b)), b.key);
     Row r;
     r.name = b.name + "_norm";
-    r.holonomic = e_name(b, 0) + "^2 + " + e_name(b, 1) + "^2 + " + e_name(b, 2) + "^2 + " + e_name(b, 3) + "^2 - 1";
+    r.holonomic = norm_residual(e_names(b));
     x.add_constraint(r, b.key);
     x.source().euler_bodies.push_back({b.name, {e_name(b, 0), e_name(b, 1), e_name(b, 2), e_name(b, 3)}});
   }
@@ -192,9 +211,10 @@ class SpatialBody : public BodyKind {
         rot.push_back(i == j ? mul(J, wi + "^2") : mul(mul("2", J), wi + "*" + wj));
       }
     if (!rot.empty()) T = add(T, mul("1/2", paren(sum(rot))));
-    if (!b.parent_joint.empty()) return T;  // placed by a tree joint: no Euler parameters
-    const Expr k = "4*(" + sum({b.inertia.m[0][0], b.inertia.m[1][1], b.inertia.m[2][2]}) + ")/3";
-    return add(T, "1/2*" + paren(k) + "*" + n + "_s^2");
+    // Placed by a tree joint: no Euler parameters of its own (a spherical tree joint adds the
+    // regularization of its relative ones, SpatialSpherical).
+    if (!b.parent_joint.empty()) return T;
+    return add(T, "1/2*" + paren(norm_stiffness(b)) + "*" + n + "_s^2");
   }
 };
 
@@ -332,7 +352,9 @@ TreeJoint tree_joint(Expander& x, const Joint& j, const std::string& what, std::
   t.m2 = &x.marker(*t.b2, j.marker2, j.key + ".marker2");
   bool named = j.coordinates.size() == count;
   for (const std::string& c : j.coordinates) named = named && !c.empty();
-  if (!named) x.fail(j.key + ".coordinates", (count == 1 ? "one coordinate name, " : "two coordinate names, ") + what);
+  static const char* counts[] = {"", "one coordinate name, ", "two coordinate names, ", "three coordinate names, ",
+                                 "four coordinate names, "};
+  if (!named) x.fail(j.key + ".coordinates", std::string(counts[count < 5 ? count : 0]) + what);
   t.c = j.coordinates[0];
   if (count > 1) t.c2 = j.coordinates[1];
   return t;
@@ -574,6 +596,67 @@ class SpatialUniversal : public JointType {
   }
 };
 
+// Spherical joint: the markers coincide (rows <joint>_x, _y, _z). As a tree joint (`coordinates
+// = ["p0", "p1", "p2", "p3"]`, names of the user's choice) it places body2 by the Euler
+// parameters p of marker2's frame relative to marker1's: marker2's frame = marker1's · A(p), with
+// |p| = 1 as the row <joint>_norm and the regularization ½ k (p·ṗ)² in T (k = 4 trace(J2)/3, as
+// for a free body: it changes neither q̈ nor R on |p| = 1, docs/bodies-spatial.md). Three angles
+// would do with one coordinate less but have an orientation where they are singular; Euler
+// parameters have none, so a ball joint turns without bound. Body2 has no coordinates or norm row
+// of its own. The relative angular velocity is 2 G(p) ṗ in marker2's axes, 2 E(p) ṗ in
+// marker1's. The coordinates are no motion a drive, gear or spring-damper could name
+// (joint_motion refuses them).
+class SpatialSpherical : public JointType {
+ public:
+  std::string name() const override { return "spherical"; }
+  int tree_coordinates(bool) const override { return 4; }
+  void rows(Expander& x, Joint& j) const override { pair_rows(x, j, {true, true, true, false, false}); }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    const TreeJoint t = tree_joint(x, j, "the Euler parameters of marker2's frame relative to marker1's (a spherical tree joint)", 4);
+    const Body& b1 = *t.b1;
+    const Marker& m1 = *t.m1;
+    const Marker& m2 = *t.m2;
+    const EulerNames e{j.coordinates[0], j.coordinates[1], j.coordinates[2], j.coordinates[3]};
+    Pose p;
+    const Mat3 Arel = tree_rotation(x, j, t, rotation_texts(e), p);
+    const Vec3 arm = scale("-1", apply(Arel, m2.p));  // from the joint's centre to body2's origin
+    const Vec3 rel_r = add(m1.p, arm);
+    const Vec3 r2 = add(b1.pose.r, apply(b1.pose.A, rel_r));
+    for (int a = 0; a < 3; ++a) p.r[a] = x.define(t.b2->name + "_" + "xyz"[a], r2[a], j.key);
+    // Per unit rate of p_c: the relative angular velocity 2 E[:, c] in marker1's axes (body1's:
+    // R1 of it) and 2 G[:, c] in marker2's (body2's: R2 of it).
+    LinVec3 wrel_parent, w2b_own;
+    std::vector<OwnRate> own;
+    for (int c = 0; c < 4; ++c) {
+      const std::string& pc = e[static_cast<std::size_t>(c)];
+      const Vec3 in1 = apply(m1.R, Vec3{rate_entry(e, true, 0, c), rate_entry(e, true, 1, c), rate_entry(e, true, 2, c)});
+      const Vec3 in2 = apply(m2.R, Vec3{rate_entry(e, false, 0, c), rate_entry(e, false, 1, c), rate_entry(e, false, 2, c)});
+      for (int a = 0; a < 3; ++a) {
+        wrel_parent[a] = add(wrel_parent[a], scale(in1[a], velocity_of(pc)));
+        w2b_own[a] = add(w2b_own[a], scale(in2[a], velocity_of(pc)));
+      }
+      own.push_back({in2, pc});
+    }
+    p.w = add(b1.pose.w, apply(b1.pose.A, wrel_parent));
+    p.w_body = add(apply_transposed(Arel, b1.pose.w_body), w2b_own);
+    p.v = add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, m1.p))),
+              cross(p.w, scale("-1", apply(p.A, m2.p))));
+    tree_rates(x, j, t, p, Arel, own);
+    Row r;
+    r.name = j.name + "_norm";
+    r.holonomic = norm_residual(e);
+    x.add_constraint(r, j.key);
+    x.define(j.name + "_s", norm_rate(e), j.key);
+    x.add_kinetic("1/2*" + paren(norm_stiffness(*t.b2)) + "*" + j.name + "_s^2");
+    rel.A = Arel;
+    rel.r = rel_r;
+    rel.w = wrel_parent;
+    rel.w_body = w2b_own;
+    rel.v = cross(wrel_parent, arm);
+    return p;
+  }
+};
+
 // Spatial distance (rod): sqrt(d·d) − L = 0; its multiplier is the rod's tension-positive force
 // on body2 along d (pushing body2 away from marker1 when positive).
 class SpatialDistance : public JointType {
@@ -803,7 +886,9 @@ Mat3 spatial_marker_axes(Expander& x, const toml::table& t, const std::string& k
 void register_spatial_bodies() {
   register_body_kind(std::make_shared<SpatialBody>());
   // Lower pairs: rows in the joint frame (marker1's axes).
-  register_joint_type(std::make_shared<SpatialPair<true, true, true, false, false>>("spherical"));
+  // Spherical: no planar counterpart; in both tables, so that it is a tree joint for spatial bodies.
+  register_joint_type(std::make_shared<SpatialSpherical>());
+  register_spatial_joint_type(std::make_shared<SpatialSpherical>());
   register_spatial_joint_type(std::make_shared<SpatialCylindrical>());
   register_joint_type(std::make_shared<SpatialPointOnPlane>());
   register_spatial_joint_type(std::make_shared<SpatialUniversal>());

@@ -274,6 +274,32 @@ BOOST_AUTO_TEST_CASE(a_spatial_bushing_vector_of_the_wrong_length_is_refused_nam
                {"model.force.mount.stiffness", "a list of 3 expressions"});
 }
 
+// A spherical tree joint places its body by four Euler parameters: three are refused naming the
+// key and the count. They are no motion: a drive or a joint spring-damper on the joint, and a
+// prescribed `motion` (not a key of a spherical joint), are refused naming the key.
+BOOST_AUTO_TEST_CASE(a_spherical_tree_joint_needs_four_euler_parameters_which_nothing_drives) {
+  const std::string ball = R"([model]
+name = "m"
+[model.body.s]
+kind = "spatial"
+mass = 1.0
+inertia = [0.1, 0.1, 0.1]
+[model.joint.b]
+type = "spherical"
+body2 = "s"
+)";
+  const std::string four = "coordinates = [\"p0\", \"p1\", \"p2\", \"p3\"]\n";
+  expect_error(ball + "coordinates = [\"a\", \"b\", \"c\"]\n",
+               {"model.joint.b.coordinates", "a list of 4 coordinate name(s) for a spherical joint"});
+  BOOST_CHECK_EQUAL(error_of(ball + four), "");
+  expect_error(ball + four + "[model.joint.d]\ntype = \"drive\"\njoint = \"b\"\nmotion = \"t\"\n",
+               {"model.joint.d.joint", "the spherical joint 'b' are Euler parameters"});
+  expect_error(ball + four + "[model.force.k]\ntype = \"joint_spring_damper\"\njoint = \"b\"\nstiffness = 1\n",
+               {"model.force.k.joint", "spherical joint 'b' (spherical) are Euler parameters"});
+  expect_error(ball + "motion = [\"1\", \"0\", \"0\", \"0\"]\n",
+               {"model.joint.b.motion", "unknown key"});
+}
+
 // A cylindrical tree joint places its body by two coordinates (its angle, its travel): one is
 // refused naming the key and the count, as is a drive naming a coordinate it does not have.
 BOOST_AUTO_TEST_CASE(a_cylindrical_tree_joint_needs_its_two_coordinates) {

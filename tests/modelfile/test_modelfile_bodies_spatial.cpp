@@ -1216,6 +1216,228 @@ motion = "1.5*t^2"
   BOOST_TEST(other < 1e-10);
 }
 
+namespace {
+
+// A bob on a ball joint under a shaft a drive spins about the vertical, far from the origin. Both
+// markers are turned about skew axes (marker2's frame = marker1's · A(p) then differs from the
+// bodies' frames) and marker2 is off the bob's axes; the bob's inertia has a product term. By a
+// spherical tree joint (the relative Euler parameters p0..p3) or as rows (the bob in Euler
+// parameters, the rows x, y, z). Outputs: the bob's origin and rotation.
+std::string bob_on_ball(bool tree) {
+  std::string t = R"(
+[model]
+name = "bob_on_ball"
+[model.parameters]
+w = 3.0
+[model.body.ground.markers]
+hub = [100, 200, 5]
+[model.body.shaft]
+kind = "spatial"
+mass = 1.0
+inertia = [0.01, 0.01, 0.02]
+markers.fork = { at = [0, 0, -0.1], axis = [1, 1, 0], angle = 0.4 }
+[model.joint.spin]
+type = "revolute"
+marker1 = "hub"
+body2 = "shaft"
+coordinates = ["phi"]
+[model.joint.motor]
+type = "drive"
+joint = "spin"
+motion = "w*t"
+[model.body.bob]
+kind = "spatial"
+mass = 0.5
+inertia = [[4e-3, 0, 0], [0, 5e-3, 1e-3], [0, 1e-3, 7e-3]]
+markers.m = { at = [0.05, -0.02, 0.3], axis = [0, 1, 2], angle = -0.7 }
+[model.joint.ball]
+type = "spherical"
+body1 = "shaft"
+marker1 = "fork"
+body2 = "bob"
+marker2 = "m"
+[model.force.gravity]
+type = "gravity"
+g = [0, 0, -9.81]
+[model.outputs]
+px = "bob_x"
+py = "bob_y"
+pz = "bob_z"
+a11 = "bob_a11"
+a12 = "bob_a12"
+a13 = "bob_a13"
+a21 = "bob_a21"
+a22 = "bob_a22"
+a23 = "bob_a23"
+a31 = "bob_a31"
+a32 = "bob_a32"
+a33 = "bob_a33"
+)";
+  if (tree) t.replace(t.find("marker2 = \"m\"\n"), 14, "marker2 = \"m\"\ncoordinates = [\"p0\", \"p1\", \"p2\", \"p3\"]\n");
+  return t;
+}
+
+}  // namespace
+
+// A spherical joint between spatial bodies, as a tree joint (the bob placed by the Euler
+// parameters of marker2's frame relative to marker1's, with their norm row) and as rows (the bob
+// in its own Euler parameters, the rows x, y, z): an independent formulation of the same machine.
+// Released at p = (1, 0, 0, 0) turning at (2, -1, 3) rad/s relative to the shaft (marker2's
+// axes), the shaft spun at 3 rad/s, the bob tumbles through more than a half turn relative to the
+// shaft (p0 changes sign: an orientation where some set of three angles is singular is passed).
+// Oracle: the two agree on its origin and rotation matrix over 2 s to 1e-8 (rtol 1e-11); the
+// norm row holds to 1e-10.
+BOOST_AUTO_TEST_CASE(spherical_joint_between_spatial_bodies_as_tree_joint_and_as_rows_agree) {
+  const double w = 3.0;
+  const Vector3d hub(100, 200, 5), wrel(2, -1, 3), m2p(0.05, -0.02, 0.3);
+  const Matrix3d R1 = Eigen::AngleAxisd(0.4, Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  const Matrix3d R2 = Eigen::AngleAxisd(-0.7, Vector3d(0, 1, 2).normalized()).toRotationMatrix();
+  std::map<bool, std::vector<Eigen::VectorXd>> seen;
+  double p0_min = 1, norm_err = 0;
+  for (const bool tree : {true, false}) {
+    BOOST_TEST_CONTEXT((tree ? "tree joint" : "rows")) {
+      const auto desc = load_model_text(bob_on_ball(tree), "bob_on_ball.toml");
+      const auto& names = desc->coordinates();
+      BOOST_REQUIRE(names.size() == (tree ? 5u : 8u));
+      Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<int>(names.size())), qd = q;
+      qd[name_index(names, "phi")] = w;
+      if (tree) {
+        // ṗ = ½ Gᵀ(p) ω' at p = (1, 0, 0, 0): (0, ω'/2), ω' in marker2's axes.
+        q[name_index(names, "p0")] = 1.0;
+        for (int i = 0; i < 3; ++i) qd[name_index(names, "p" + std::to_string(i + 1))] = 0.5 * wrel[i];
+      } else {
+        // At p = 1 marker2's frame is marker1's: A R2 = R1 (the shaft's frame is ground's at
+        // phi = 0), the joint's centre J = hub − 0.1 ẑ, the bob's origin J − A m2.
+        const Matrix3d A = R1 * R2.transpose();
+        const Eigen::Quaterniond e(A);
+        const Vector3d J = hub + Vector3d(0, 0, -0.1), r = J - A * m2p;
+        const Vector3d omega = Vector3d(0, 0, w) + R1 * wrel;  // ground axes
+        const int ix = name_index(names, "bob_x"), ie = name_index(names, "bob_e0");
+        q.segment<3>(ix) = r;
+        q.segment<4>(ie) << e.w(), e.x(), e.y(), e.z();
+        qd.segment<3>(ix) = omega.cross(r - J);  // J is on the spin axis: at rest
+        Eigen::Matrix<double, 3, 4> E;
+        E << -e.x(), e.w(), -e.z(), e.y(),  //
+            -e.y(), e.z(), e.w(), -e.x(),   //
+            -e.z(), -e.y(), e.x(), e.w();
+        qd.segment<4>(ie) = 0.5 * E.transpose() * omega;
+      }
+      const auto model = desc->instantiate({});
+      const int i0 = output_index(*desc, "px");
+      mech::SimulationOptions o;
+      o.t_end = 2.0;
+      o.rtol = 1e-11;
+      o.atol = 1e-13;
+      o.kernel = Kernel::cpp;
+      o.active_constraints = all_names(*model);
+      int next = 0;
+      const double dt = 0.05;
+      auto& out = seen[tree];
+      const auto r = mech::simulate(*model, q, qd, o, [&](const mech::StepView& v) {
+        while (next * dt <= v.t + 1e-12) {
+          const mech::Sample smp = v.sample(std::max(v.t_prev, next * dt));
+          out.push_back(smp.derived.segment(i0, 12));
+          ++next;
+        }
+        if (tree) {
+          const Eigen::VectorXd qs = v.sample(v.t).q;
+          Vector4d p;
+          for (int i = 0; i < 4; ++i) p[i] = qs[name_index(names, "p" + std::to_string(i))];
+          p0_min = std::min(p0_min, p[0]);
+          norm_err = std::max(norm_err, std::abs(p.squaredNorm() - 1));
+        }
+        return true;
+      });
+      BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+      BOOST_TEST(out.size() == 41u);
+    }
+  }
+  double err_p = 0, err_a = 0, swing = 0;
+  for (std::size_t k = 0; k < seen[true].size() && k < seen[false].size(); ++k) {
+    err_p = std::max(err_p, (seen[true][k].head(3) - seen[false][k].head(3)).cwiseAbs().maxCoeff());
+    err_a = std::max(err_a, (seen[true][k].tail(9) - seen[false][k].tail(9)).cwiseAbs().maxCoeff());
+    swing = std::max(swing, (seen[true][k].head(2) - hub.head(2)).norm());
+  }
+  BOOST_TEST_MESSAGE("spherical joint, tree against rows over 2 s: origin " << err_p << " m, rotation " << err_a
+                     << "; the bob swung out to " << swing << " m from the axis; p0 down to " << p0_min
+                     << ", | |p|^2 - 1 | up to " << norm_err);
+  BOOST_TEST(swing > 0.05);
+  BOOST_TEST(p0_min < 0.0);
+  BOOST_TEST(norm_err < 1e-10);
+  BOOST_TEST(err_p < 1e-8);
+  BOOST_TEST(err_a < 1e-8);
+}
+
+// A heavy rigid body on a ball joint fixed in ground (a spherical pendulum with a product of
+// inertia, far from the origin), placed by the spherical tree joint and released tumbling: no
+// dissipation, so T + V stays at its initial value. Oracle: the energy balance over 10 s, to
+// 1e-9 of the largest kinetic energy (rtol 1e-11); the body turns through many relative half
+// turns (p0 changes sign several times).
+BOOST_AUTO_TEST_CASE(a_body_on_a_spherical_tree_joint_keeps_its_energy_through_many_turns) {
+  const std::string text = R"toml([model]
+name = "ball_top"
+[model.body.ground.markers]
+pivot = { at = [-300, 40, 1000], axis = [1, 0, 0], angle = 0.3 }
+[model.body.top]
+kind = "spatial"
+mass = 2.0
+inertia = [[0.02, 0.004, 0], [0.004, 0.03, 0.002], [0, 0.002, 0.04]]
+markers.tip = [0.01, 0.02, -0.2]
+[model.joint.ball]
+type = "spherical"
+marker1 = "pivot"
+body2 = "top"
+marker2 = "tip"
+coordinates = ["p0", "p1", "p2", "p3"]
+[model.force.gravity]
+type = "gravity"
+g = [0, 0, -9.81]
+[model.outputs]
+T = "1/2*2.0*(top_vc1^2 + top_vc2^2 + top_vc3^2) + 1/2*(0.02*top_w1^2 + 0.03*top_w2^2 + 0.04*top_w3^2 + 2*0.004*top_w1*top_w2 + 2*0.002*top_w2*top_w3)"
+V = "2.0*9.81*top_z"
+)toml";
+  const auto desc = load_model_text(text, "ball_top.toml");
+  const auto model = desc->instantiate({});
+  const auto& names = desc->coordinates();
+  BOOST_REQUIRE(names.size() == 4u);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(4), qd = q;
+  // Turned 2 rad about (1, 2, 2)/3 relative to the pivot's frame, spinning at 8 rad/s about
+  // marker2's (0.3, -0.5, 1)-ish axis: ṗ = ½ Gᵀ(p) ω'.
+  const Vector3d u = Vector3d(1, 2, 2) / 3.0, wb(2.4, -4.0, 8.0);
+  Vector4d p;
+  p << std::cos(1.0), std::sin(1.0) * u;
+  Eigen::Matrix<double, 3, 4> G;
+  G << -p[1], p[0], p[3], -p[2],  //
+      -p[2], -p[3], p[0], p[1],   //
+      -p[3], p[2], -p[1], p[0];
+  q = p;
+  qd = 0.5 * G.transpose() * wb;
+  mech::SimulationOptions o;
+  o.t_end = 10.0;
+  o.rtol = 1e-11;
+  o.atol = 1e-13;
+  o.active_constraints = all_names(*model);
+  const int iT = output_index(*desc, "T"), iV = output_index(*desc, "V");
+  double E0 = NAN, dE = 0, Tmax = 0, prev_p0 = p[0];
+  int sign_changes = 0;
+  const auto r = mech::simulate(*model, q, qd, o, [&](const mech::StepView& v) {
+    const mech::Sample& s = v.sample(v.t);
+    const double E = s.derived[iT] + s.derived[iV];
+    if (std::isnan(E0)) E0 = E;
+    dE = std::max(dE, std::abs(E - E0));
+    Tmax = std::max(Tmax, s.derived[iT]);
+    const double p0 = s.q[name_index(names, "p0")];
+    if ((p0 < 0) != (prev_p0 < 0)) ++sign_changes;
+    prev_p0 = p0;
+    return true;
+  });
+  BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+  BOOST_TEST_MESSAGE("body on a spherical tree joint, 10 s: |E - E0| up to " << dE << " J (T up to " << Tmax
+                     << " J), p0 changed sign " << sign_changes << " times");
+  BOOST_TEST(sign_changes >= 4);
+  BOOST_TEST(dE < 1e-9 * Tmax);
+}
+
 BOOST_AUTO_TEST_CASE(bad_inertia_tensors_are_rejected_naming_the_key) {
   auto load = [](const std::string& inertia) {
     return input_error_of([&] {
