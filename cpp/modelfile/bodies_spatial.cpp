@@ -195,7 +195,7 @@ class SpatialBody : public BodyKind {
     r.name = b.name + "_norm";
     r.holonomic = norm_residual(e_names(b));
     x.add_constraint(r, b.key);
-    x.source().euler_bodies.push_back({b.name, {e_name(b, 0), e_name(b, 1), e_name(b, 2), e_name(b, 3)}});
+    x.source().euler_bodies.push_back({b.name, {e_name(b, 0), e_name(b, 1), e_name(b, 2), e_name(b, 3)}, ""});
   }
 
   // ½ m |v_c|² + ½ ω'ᵀ J ω' (+ ½ k (e·ė)² for a body with Euler parameters), in the named rates.
@@ -646,6 +646,7 @@ class SpatialSpherical : public JointType {
     r.name = j.name + "_norm";
     r.holonomic = norm_residual(e);
     x.add_constraint(r, j.key);
+    x.source().euler_bodies.push_back({t.b2->name, {e[0], e[1], e[2], e[3]}, j.name});
     x.define(j.name + "_s", norm_rate(e), j.key);
     x.add_kinetic("1/2*" + paren(norm_stiffness(*t.b2)) + "*" + j.name + "_s^2");
     rel.A = Arel;

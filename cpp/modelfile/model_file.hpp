@@ -66,6 +66,10 @@ struct ConstraintSpec {
 struct EulerBody {
   std::string name;
   std::vector<std::string> e;  ///< the coordinates e0, e1, e2, e3
+  /// Empty: the body's own Euler parameters (its orientation in ground). Else the name of the
+  /// spherical tree joint whose coordinates e are (marker2's frame relative to marker1's): no
+  /// rotation-vector or angular-velocity keys in the case.
+  std::string joint;
 };
 
 /// A derived output column: `name = "expression"` in [model.outputs].

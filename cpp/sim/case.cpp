@@ -152,6 +152,7 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   // A spatial body's initial orientation as a rotation vector (issue 22), instead of its Euler
   // parameters.
   for (const auto& b : m.euler_bodies()) {
+    if (!b.joint.empty()) continue;  // a spherical tree joint's: its p and ṗ only
     const char* axis[3] = {"x", "y", "z"};
     int i = 0;
     for (const auto& name : rotation_vector_keys(b))
@@ -165,7 +166,7 @@ std::vector<KeySpec> schema(const ModelSource& m, const Client* client) {
   // A spatial body's initial angular velocity (issue 22), instead of its Euler-parameter rates.
   for (const auto& b : m.euler_bodies())
     for (const auto& [name, axes] : angular_velocity_keys(b))
-      if (!find(keys, "initial." + name))
+      if (b.joint.empty() && !find(keys, "initial." + name))
         keys.push_back(number_key("initial", name,
                                   "initial angular velocity of body " + b.name + " about its " + axes,
                                   std::nullopt));
@@ -470,7 +471,28 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
   }
   // A spatial body's initial angular velocity: in body axes or in ground axes, and not together
   // with its Euler-parameter rates (both would set the same velocities).
+  // Euler parameters all 0 are no orientation (and leave M singular): refused by key, unless the
+  // body's rotation vector gives them (setup_of).
   for (const auto& b : r.model->euler_bodies()) {
+    bool rotation_vector = false;
+    if (b.joint.empty())
+      for (const auto& k : rotation_vector_keys(b))
+        rotation_vector = rotation_vector || (t["initial"][k] && r.model->coordinate_index(k) < 0);
+    double n2 = 0.0;
+    for (const auto& e : b.e) n2 += std::pow(t["initial"][e].value_or(0.0), 2);
+    if (!rotation_vector && !(n2 > 1e-12))
+      fail(file, "initial." + b.e[0],
+           b.joint.empty()
+               ? "the orientation of body " + b.name + " (Euler parameters " + b.e[0] + ".." + b.e[3] +
+                     " not all 0; " + b.e[0] + " = 1 for the body frame aligned with ground, or a rotation vector " +
+                     b.name + "_rx.." + b.name + "_rz)"
+               : "the orientation of body " + b.name + " on the spherical joint " + b.joint +
+                     " (its Euler parameters " + b.e[0] + ".." + b.e[3] + " not all 0; " + b.e[0] +
+                     " = 1 for marker2's frame aligned with marker1's)",
+           "all 0");
+  }
+  for (const auto& b : r.model->euler_bodies()) {
+    if (!b.joint.empty()) continue;
     const auto keys = angular_velocity_keys(b);
     std::string body_key, ground_key, rate_key;
     for (std::size_t i = 0; i < keys.size(); ++i)
@@ -500,16 +522,6 @@ void fill_and_validate(const fs::path& file, toml::table& t, const Resolved& r) 
            "either the orientation of body " + b.name + " as a rotation vector (" + rot_key +
                ") or its Euler parameters (" + b.e[0] + ".." + b.e[3] +
                "), not both (the rotation vector sets them)");
-    if (!(body_key.empty() && ground_key.empty()) && rot_key.empty()) {
-      double n2 = 0.0;
-      for (const auto& e : b.e) n2 += std::pow(t["initial"][e].value_or(0.0), 2);
-      if (!(n2 > 1e-12))
-        fail(file, "initial." + b.e[0],
-             "the orientation of body " + b.name + " (Euler parameters " + b.e[0] + ".." + b.e[3] +
-                 " not all 0; " + b.e[0] + " = 1 for the body frame aligned with ground) when " +
-                 (body_key.empty() ? ground_key : body_key) + " gives its angular velocity",
-             "all 0");
-    }
   }
   if (t["output"]["summary_periods"] && t["output"]["summary_time"])
     fail(file, "output.summary_time",
@@ -760,6 +772,7 @@ Setup setup_of(const Case& c) {
   // A spatial body's initial orientation as a rotation vector r = χ u (ground axes) gives its
   // Euler parameters e = (cos χ/2, u sin χ/2) (fill_and_validate refused it with explicit e).
   for (const auto& b : m.euler_bodies()) {
+    if (!b.joint.empty()) continue;
     Eigen::Vector3d rv = Eigen::Vector3d::Zero();
     bool given = false;
     const auto keys = rotation_vector_keys(b);
@@ -782,6 +795,7 @@ Setup setup_of(const Case& c) {
   // of its Euler parameters ė = ½ Gᵀ ω' = ½ Eᵀ ω at the (normalized) initial e
   // (docs/bodies-spatial.md; fill_and_validate refused the key together with explicit rates).
   for (const auto& b : m.euler_bodies()) {
+    if (!b.joint.empty()) continue;
     const auto keys = angular_velocity_keys(b);
     bool body = false, ground = false;
     Eigen::Vector3d w = Eigen::Vector3d::Zero();

@@ -62,7 +62,7 @@ class FileModelSource final : public ModelSource {
   std::vector<std::string> slow_coordinates() const override { return d_->slow_coordinates(); }
   std::vector<EulerBody> euler_bodies() const override {
     std::vector<EulerBody> out;
-    for (const auto& b : d_->euler_bodies()) out.push_back({b.name, b.e});
+    for (const auto& b : d_->euler_bodies()) out.push_back({b.name, b.e, b.joint});
     return out;
   }
   std::string definition_text() const override { return text_; }

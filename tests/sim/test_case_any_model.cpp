@@ -296,6 +296,34 @@ BOOST_AUTO_TEST_CASE(initial_angular_velocity_conflicts_are_refused_naming_the_k
   BOOST_TEST(error_of([&] { load_case_text(model + "[initial]\nb_e0 = 1.0\nb_wy = 2.0\n", "good.toml"); }).empty());
 }
 
+// Euler parameters all 0 are no orientation (the mass matrix is singular there): refused naming
+// the first one's key, for a body's own (without an angular velocity too) and for a spherical
+// tree joint's; a rotation vector gives a free body's. A spherical tree joint's parameters take
+// no rotation-vector or angular-velocity keys (they are not the body's orientation in ground).
+BOOST_AUTO_TEST_CASE(euler_parameters_all_zero_are_refused_naming_the_key) {
+  const std::string model = "[model]\nname = \"spinner\"\n[model.body.b]\nkind = \"spatial\"\nmass = 2.0\n"
+                            "inertia = [0.1, 0.2, 0.3]\n";
+  auto err = [&](const std::string& text) { return error_of([&] { load_case_text(text, "bad.toml"); }); };
+  const std::string a = err(model + "[initial]\nb_x = 3.0\n");
+  BOOST_TEST(has(a, "bad.toml: key 'initial.b_e0'"), a);
+  BOOST_TEST(has(a, "b_e0..b_e3 not all 0"), a);
+  BOOST_TEST(has(a, "got all 0"), a);
+  BOOST_TEST(err(model + "[initial]\nb_rx = 0.3\n").empty());
+  BOOST_TEST(err(model + "[initial]\nb_e2 = -1.0\n").empty());
+  const std::string ball = "[model]\nname = \"ball\"\n[model.body.b]\nkind = \"spatial\"\nmass = 2.0\n"
+                           "inertia = [0.1, 0.2, 0.3]\nmarkers.m = [0, 0, 0.5]\n[model.joint.j]\ntype = \"spherical\"\n"
+                           "body2 = \"b\"\nmarker2 = \"m\"\ncoordinates = [\"p0\", \"p1\", \"p2\", \"p3\"]\n";
+  const std::string b = err(ball + "[initial]\np1_d = 1.0\n");
+  BOOST_TEST(has(b, "bad.toml: key 'initial.p0'"), b);
+  BOOST_TEST(has(b, "on the spherical joint j"), b);
+  BOOST_TEST(has(b, "p0 = 1 for marker2's frame aligned with marker1's"), b);
+  BOOST_TEST(err(ball + "[initial]\np0 = 1.0\np1_d = 1.0\n").empty());
+  for (const char* key : {"b_w1", "b_wx", "b_rx"}) {
+    const std::string c = err(ball + "[initial]\np0 = 1.0\n" + key + " = 1.0\n");
+    BOOST_TEST(has(c, std::string("key 'initial.") + key + "'"), c);
+  }
+}
+
 // Issue 22: the initial orientation of a spatial body as a rotation vector (initial.b_rx..rz =
 // chi u, ground axes) gives the Euler parameters (cos chi/2, u sin chi/2), written out here for
 // chi = 1.1 about u = (1, 2, 2)/3; with the ground angular-velocity keys the rates follow at that
