@@ -1105,6 +1105,7 @@ void Drive::rows(Expander& x, Joint& j) const {
   std::string coordinate;
   int index = 0;
   std::string type;
+  bool planar_tree = true;
   if (auto jn = t.get("joint")) {
     const Joint& tj = x.joint(x.string(*jn, j.key + ".joint", "the name of a joint"), j.key + ".joint");
     if (tj.coordinates.empty()) {
@@ -1135,6 +1136,7 @@ void Drive::rows(Expander& x, Joint& j) const {
       x.fail(j.key + ".joint", "a joint with a motion to prescribe; the coordinates of the spherical joint '" + tj.name +
                                    "' are Euler parameters (drive revolute or universal joints)");
     type = tj.type;
+    planar_tree = tj.planar;
     if (auto c = t.get("coordinate")) {
       coordinate = x.string(*c, j.key + ".coordinate", "one of the joint's coordinates");
       auto it = std::find(tj.coordinates.begin(), tj.coordinates.end(), coordinate);
@@ -1169,6 +1171,7 @@ void Drive::rows(Expander& x, Joint& j) const {
   } else if (type == "planar") {
     if (index < 2) j.force[index] = l;
     else j.moment[2] = l;
+    j.planar = planar_tree;  // between spatial bodies: the spatial columns F_x..F_z, M_x..M_z
   } else {
     j.force[0] = l;  // the generalized force on the coordinate
   }

@@ -520,6 +520,52 @@ class SpatialCylindrical : public JointType {
   }
 };
 
+// Planar joint between spatial bodies: marker2's origin in marker1's x-y plane, the z axes
+// parallel (rows <joint>_z, _ax, _ay); as a tree joint (`coordinates = ["x", "y", "angle"]`,
+// names of the user's choice) it places body2 by the travels of marker2's origin along
+// marker1's x and y and the angle of marker2's x from marker1's about their common z (no rows,
+// no Euler parameters for body2: a puck on a table, a part on a moving platform).
+class SpatialPlanar : public JointType {
+ public:
+  std::string name() const override { return "planar"; }
+  int tree_coordinates(bool) const override { return 3; }
+  void rows(Expander& x, Joint& j) const override { pair_rows(x, j, {false, false, true, true, false}); }
+  Pose tree_pose(Expander& x, const Joint& j, Pose& rel) const override {
+    const TreeJoint t = tree_joint(x, j, "the joint's travels along marker1's x and y and its angle about z (a planar tree joint)", 3);
+    const Body& b1 = *t.b1;
+    const Marker& m1 = *t.m1;
+    const Marker& m2 = *t.m2;
+    const std::string &sx = j.coordinates[0], &sy = j.coordinates[1], &th = j.coordinates[2];
+    Pose p;
+    const Mat3 Arel = tree_rotation(x, j, t, Mat3::rot_z(th), p);
+    const Vec3 u1 = column(m1.R, 0), v1 = column(m1.R, 1), z1 = column(m1.R, 2);  // body1's frame
+    const Vec3 centre = add(m1.p, add(scale(sx, u1), scale(sy, v1)));  // marker2's origin, body1's frame
+    const Vec3 arm = scale("-1", apply(Arel, m2.p));                   // from it to body2's origin
+    const Vec3 rel_r = add(centre, arm);
+    const Vec3 r2 = add(b1.pose.r, apply(b1.pose.A, rel_r));
+    for (int a = 0; a < 3; ++a) p.r[a] = x.define(t.b2->name + "_" + "xyz"[a], r2[a], j.key);
+    LinVec3 wrel_parent, slide;  // θ̇ z1 and ẋ u1 + ẏ v1, body1's components
+    for (int a = 0; a < 3; ++a) {
+      wrel_parent[a] = scale(z1[a], velocity_of(th));
+      slide[a] = add(scale(u1[a], velocity_of(sx)), scale(v1[a], velocity_of(sy)));
+    }
+    p.w = add(b1.pose.w, apply(b1.pose.A, wrel_parent));
+    LinVec3 w2b_own;
+    for (int a = 0; a < 3; ++a) w2b_own[a] = scale(m2.R.m[a][2], velocity_of(th));  // θ̇ R2 ẑ
+    p.w_body = add(apply_transposed(Arel, b1.pose.w_body), w2b_own);
+    // V2 = V1 + ω1 × A1 centre + A1 (ẋ u1 + ẏ v1) + ω2 × (−A2 m2)
+    p.v = add(add(add(b1.pose.v, cross(b1.pose.w, apply(b1.pose.A, centre))), apply(b1.pose.A, slide)),
+              cross(p.w, scale("-1", apply(p.A, m2.p))));
+    tree_rates(x, j, t, p, Arel, {{column(m2.R, 2), th}});  // θ̇ R2 ẑ
+    rel.A = Arel;
+    rel.r = rel_r;
+    rel.w = wrel_parent;
+    rel.w_body = w2b_own;
+    rel.v = add(slide, cross(wrel_parent, arm));
+    return p;
+  }
+};
+
 // Rotations about x and y by a symbolic angle (Mat3::rot_z's kin).
 Mat3 rot_x(const Expr& a) {
   Mat3 r;
@@ -897,7 +943,7 @@ void register_spatial_bodies() {
   register_spatial_joint_type(std::make_shared<SpatialRevolute>());
   register_spatial_joint_type(std::make_shared<SpatialPrismatic>());
   register_spatial_joint_type(std::make_shared<SpatialPair<true, true, true, true, true>>("fixed"));
-  register_spatial_joint_type(std::make_shared<SpatialPair<false, false, true, true, false>>("planar"));
+  register_spatial_joint_type(std::make_shared<SpatialPlanar>());
   register_spatial_joint_type(std::make_shared<SpatialPointOnLine>());
   register_spatial_joint_type(std::make_shared<SpatialDistance>());
 }
