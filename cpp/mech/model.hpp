@@ -30,9 +30,15 @@ struct ContactInfo {
   int gap_sign = 1;            ///< +1: the gap is Φ; −1: the gap is −Φ
   double restitution = 0.0;    ///< Newton's e_n in [0, 1]
   int friction_of = -1;        ///< a friction constraint: index of its unilateral constraint
+  /// A rough row of that contact (no μ): imposed, like a bilateral row, while the contact is
+  /// closed, released in its flights; it never slips (the perfectly rough limit μ → ∞: a wheel
+  /// that rolls without slip while it touches and flies when it lifts off). Velocity form.
+  bool rough = false;
   double mu_static = 0.0;      ///< Coulomb's static coefficient μ_s >= μ_k
   double mu_kinetic = 0.0;     ///< Coulomb's kinetic coefficient μ_k >= 0
+  /// A row of a contact's (Coulomb friction or rough): not bilateral.
   bool is_friction() const { return friction_of >= 0; }
+  bool is_coulomb() const { return friction_of >= 0 && !rough; }
 };
 
 struct ConstraintInfo {

@@ -618,6 +618,7 @@ void Expander::add_constraint(const Row& row, const std::string& key) {
   sc.mu_kinetic = ExprText{src_.where, key + ".mu_kinetic", row.mu_kinetic};
   sc.spec.mu_kinetic = row.mu_kinetic;
   sc.spec.friction = row.friction;
+  sc.spec.rough = row.rough;
   src_.constraints.push_back(std::move(sc));
 }
 

@@ -192,6 +192,7 @@ struct Row {
   Expr restitution;         ///< "" absent
   std::string friction;     ///< the unilateral row's name, "" none
   Expr mu_static, mu_kinetic;
+  bool rough = false;       ///< with friction: held while that contact is closed, no μ
 };
 
 /// What a joint reads and generates. The frame of a joint is marker1's frame on body1 unless

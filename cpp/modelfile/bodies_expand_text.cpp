@@ -95,6 +95,7 @@ std::string energy_form_text(const detail::ModelSource& src) {
     if (c.spec.gap_sign != 1) o << "gap_sign = " << c.spec.gap_sign << "\n";
     if (!c.spec.restitution.empty()) o << "restitution = " << quoted(c.spec.restitution) << "\n";
     if (!c.spec.friction.empty()) o << "friction = " << quoted(c.spec.friction) << "\n";
+    if (c.spec.rough) o << "rough = true\n";
     if (!c.spec.mu_static.empty()) o << "mu_static = " << quoted(c.spec.mu_static) << "\n";
     if (!c.spec.mu_kinetic.empty()) o << "mu_kinetic = " << quoted(c.spec.mu_kinetic) << "\n";
   }

@@ -730,11 +730,11 @@ class SpatialDistance : public JointType {
 // plane's body). The contact point is C + ρ, ρ = −r (w1 − (w1·a) a)/σ.
 // `no_slip = false` keeps the row n only: a frictionless thin disk on the plane (it slides and
 // spins freely; its contact force is normal, acting at the contact point).
-// Contact (issue 12, bodies_contact.cpp): `unilateral` and `restitution` on the row n of a
-// frictionless wheel (no_slip = false): a disk that lifts off, flies and lands. On a rolling wheel
-// they are refused: its no-slip rows x, y must be released in flight and in slip, i.e. be the
-// friction rows of its contact, two of them (a 2-D Coulomb cone), and the switching engine
-// carries one friction row per contact (docs/switching.md); so is `mu_static` on any wheel.
+// Contact (issue 12, bodies_contact.cpp): `unilateral` and `restitution` on the row n: a disk
+// that lifts off, flies and lands. On a rolling wheel its no-slip rows x, y are then the rough
+// rows of that contact (held while it touches, released in flight: hold_while_closed). Friction
+// (`mu_static`) is refused on any wheel: slip in the plane needs Coulomb's law with two friction
+// rows at one contact (a 2-D cone), and the switching engine carries one per contact.
 class SpatialWheel : public JointType {
  public:
   std::string name() const override { return "wheel"; }
@@ -746,15 +746,6 @@ class SpatialWheel : public JointType {
   void rows(Expander& x, Joint& j) const override {
     bool no_slip = true;
     if (const toml::node* ns = j.table->get("no_slip")) no_slip = x.boolean(*ns, j.key + ".no_slip");
-    if (no_slip)
-      for (const char* k : {"unilateral", "restitution"})
-        if (j.table->get(k))
-          x.fail(j.key + "." + k,
-                 "no " + std::string(k) + " on a rolling wheel (no_slip = true, the default): its no-slip "
-                 "rows x, y would have to be released in flight and in slip, i.e. be the friction rows "
-                 "of its contact, two of them (a 2-D Coulomb cone), and the switching engine carries "
-                 "one friction row per contact (docs/switching.md); no_slip = false makes the wheel a "
-                 "frictionless disk on the plane, which takes unilateral and restitution");
     const Frames f = frames(x, j);
     const Expr r = x.required(*j.table, j.key, "radius", "the wheel's radius (an expression)");
     std::string surface = "plane";
@@ -782,8 +773,9 @@ class SpatialWheel : public JointType {
       read_joint_contact(x, j, rn, nullptr,
                          "no friction on a wheel: a spatial contact slips in the plane, so Coulomb's "
                          "law needs two friction rows at one contact (a 2-D cone), and the switching "
-                         "engine carries one friction row per contact (docs/switching.md); a planar "
-                         "model's rolling joint takes mu_static");
+                         "engine carries one friction row per contact (docs/switching.md); a rolling "
+                         "wheel with unilateral = true rolls without slip while it touches (its "
+                         "no-slip rows are rough rows); a planar model's rolling joint takes mu_static");
     j.rows.push_back(rn);
     Vec3 F = scale(lam(rn), n);
     if (!no_slip) {
@@ -802,6 +794,7 @@ class SpatialWheel : public JointType {
       rt.name = pre + std::string(i == 0 ? "x" : "y");
       rt.velocity_form = true;
       rt.velocity = dot(column(f.E1, i), vrel);
+      hold_while_closed(rn, rt);
       j.rows.push_back(rt);
       F = add(F, scale(lam(rt), column(f.E1, i)));
     }
@@ -810,6 +803,16 @@ class SpatialWheel : public JointType {
   }
 
  private:
+  // A rolling wheel that can lift off (`unilateral = true` on its row n): its no-slip rows are
+  // the rough rows of that contact, imposed while it is closed and released in flight (the
+  // perfectly rough limit of Coulomb's law: it never slips; a landing is a rough impact,
+  // docs/switching.md). A wheel that may slip would need Coulomb's law in the plane (two
+  // friction rows at one contact, a 2-D cone), which the switching engine does not carry.
+  static void hold_while_closed(const Row& normal, Row& row) {
+    if (!normal.unilateral) return;
+    row.friction = normal.name;
+    row.rough = true;
+  }
   // On a sphere of body1 (centre marker1, radius R), outside (default) or inside (`inside =
   // true`, a wheel in a spherical bowl). With d = C − S (the wheel's centre from the sphere's)
   // and d_p = d − (d·a) a its part in the wheel's plane (σ = |d_p|), the contact is the rim
@@ -858,7 +861,8 @@ class SpatialWheel : public JointType {
       read_joint_contact(x, j, rn, nullptr,
                          "no friction on a wheel: a spatial contact slips in the plane, so Coulomb's "
                          "law needs two friction rows at one contact (a 2-D cone), and the switching "
-                         "engine carries one friction row per contact (docs/switching.md)");
+                         "engine carries one friction row per contact (docs/switching.md); a rolling "
+                         "wheel with unilateral = true rolls without slip while it touches");
     j.rows.push_back(rn);
     Vec3 F = scale(lam(rn), nu);
     if (no_slip) {
@@ -879,6 +883,7 @@ class SpatialWheel : public JointType {
         rt.name = pre + std::string(i == 0 ? "x" : "y");
         rt.velocity_form = true;
         rt.velocity = dot(*t[i], vrel);
+        hold_while_closed(rn, rt);
         j.rows.push_back(rt);
         F = add(F, scale(lam(rt), *t[i]));
       }

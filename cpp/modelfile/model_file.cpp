@@ -278,6 +278,20 @@ void read_contact_attributes(const Reader& r, const toml::table& t, SourceConstr
       fail(r.where(), k + ".friction",
            "a constraint is either unilateral (a normal contact) or a friction constraint "
            "attached to one, not both");
+    if (auto ro = t.get("rough")) sc.spec.rough = r.boolean(*ro, k + ".rough");
+    if (sc.spec.rough) {
+      // Perfectly rough: no Coulomb coefficients; held while the contact is closed.
+      for (const char* key : {"mu_static", "mu_kinetic"})
+        if (t.get(key))
+          fail(r.where(), k + "." + key,
+               std::string(key) + " or rough = true, not both (a rough row never slips: it has no "
+                                  "friction coefficient)");
+      if (sc.spec.kind != mech::ConstraintKind::velocity)
+        fail(r.where(), k + ".rough",
+             "a rough row in velocity form (velocity = {...}): a holonomic one would keep its "
+             "constant from before a flight");
+      return;
+    }
     const toml::node* ms = t.get("mu_static");
     if (!ms)
       fail(r.where(), k + ".mu_static",
@@ -290,6 +304,9 @@ void read_contact_attributes(const Reader& r, const toml::table& t, SourceConstr
       sc.spec.mu_kinetic = sc.mu_kinetic.text;
     }
   } else {
+    if (t.get("rough"))
+      fail(r.where(), k + ".rough",
+           "rough = true only with friction = \"NAME\" (the unilateral constraint it holds at)");
     for (const char* key : {"mu_static", "mu_kinetic"})
       if (t.get(key))
         fail(r.where(), k + "." + key,
@@ -471,7 +488,7 @@ ModelSource detail::read_model_source(const toml::table& model,
       r.name(sc.spec.name, anonymous + ".name");
       sc.key = r.key("constraint") + "[" + sc.spec.name + "]";
       r.only(t, sc.key, {"name", "holonomic", "velocity", "velocity0", "active", "from_initial",
-                         "unilateral", "gap_sign", "restitution", "friction", "mu_static",
+                         "unilateral", "gap_sign", "restitution", "friction", "rough", "mu_static",
                          "mu_kinetic"});
       const toml::node* hol = t.get("holonomic");
       const toml::node* vel = t.get("velocity");
@@ -703,7 +720,7 @@ std::shared_ptr<const mech::Model> ModelDescription::instantiate(
     if (ci.unilateral && !(ci.restitution >= 0.0 && ci.restitution <= 1.0))
       fail(who, key + ".restitution",
            "Newton's restitution coefficient in [0, 1]" + got(ci.restitution, spec.restitution));
-    if (ci.is_friction()) {
+    if (ci.is_coulomb()) {
       if (!(ci.mu_static >= 0.0) || !std::isfinite(ci.mu_static))
         fail(who, key + ".mu_static",
              "a static friction coefficient >= 0" + got(ci.mu_static, spec.mu_static));

@@ -58,6 +58,7 @@ struct ConstraintSpec {
   std::string friction;           ///< `friction = "NAME"`: attached to unilateral NAME ("" none)
   std::string mu_static;          ///< μ_s as written (required with friction)
   std::string mu_kinetic;         ///< μ_k as written ("" = μ_s)
+  bool rough = false;             ///< `rough = true` with friction: no slip while closed (no μ)
 };
 
 /// A spatial body placed by Euler parameters (body form, issue 22): a case may give its initial

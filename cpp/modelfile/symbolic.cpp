@@ -1361,6 +1361,7 @@ std::shared_ptr<CompiledModel> compile_tape(const SymbolicModel& m, const ModelS
     info.contact.unilateral = sc.spec.unilateral;
     info.contact.gap_sign = sc.spec.gap_sign;
     info.contact.friction_of = sc.friction_of;
+    info.contact.rough = sc.spec.rough;
     c.constraints.push_back(info);
   }
 

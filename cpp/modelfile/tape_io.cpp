@@ -10,7 +10,8 @@ namespace pcsim::modelfile {
 
 namespace {
 
-constexpr char kTag[] = "pcsim-compiled-model-3";  // 2: contact attributes (issue 12); 3: lambda slots (issue 22)
+// 2: contact attributes (issue 12); 3: lambda slots (issue 22); 4: rough rows (issue 22)
+constexpr char kTag[] = "pcsim-compiled-model-4";
 
 class Writer {
  public:
@@ -116,6 +117,7 @@ std::string serialize_compiled(const CompiledModel& c, const std::string& text) 
     w.pod<bool>(k.contact.unilateral);  // contact attributes (issue 12); values: contact_slots
     w.pod<int>(k.contact.gap_sign);
     w.pod<int>(k.contact.friction_of);
+    w.pod<bool>(k.contact.rough);
   }
   w.pod<std::uint64_t>(c.output_names.size());
   for (const auto& s : c.output_names) w.str(s);
@@ -171,6 +173,7 @@ std::shared_ptr<CompiledModel> deserialize_compiled(const std::string& bytes, co
       k.contact.unilateral = r.pod<bool>();
       k.contact.gap_sign = r.pod<int>();
       k.contact.friction_of = r.pod<int>();
+      k.contact.rough = r.pod<bool>();
       c->constraints.push_back(k);
     }
     for (auto n = r.pod<std::uint64_t>(); n > 0; --n) c->output_names.push_back(r.str());

@@ -472,6 +472,7 @@ class PyModel {
       e["active_by_default"] = c.active_by_default;
       e["unilateral"] = c.unilateral;
       e["friction_of"] = c.friction_of;
+      e["rough"] = c.rough;
       e["meaning"] = c.meaning;
       l.append(e);
     }
@@ -834,7 +835,7 @@ PYBIND11_MODULE(_pcsim, m) {
                              "min, max, min_exclusive, max_exclusive}}.")
       .def_property_readonly("constraints", &PyModel::constraints,
                              "The constraints on offer: [{name, kind, active, active_by_default, "
-                             "unilateral, friction_of, meaning}].")
+                             "unilateral, friction_of, rough, meaning}].")
       .def("evaluate", &PyModel::evaluate, py::arg("q"), py::arg("qd") = py::none(),
            py::arg("t") = 0.0,
            "The engine's quantities at (t, q, qd) for the case's active constraints: M (n x n), "

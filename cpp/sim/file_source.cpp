@@ -47,7 +47,7 @@ class FileModelSource final : public ModelSource {
         text_(std::move(text)) {
     for (const auto& p : d_->parameters()) parameters_.push_back(parameter_spec(p));
     for (const auto& c : d_->constraints())
-      constraints_.push_back({c.name, c.kind, c.active_by_default, "", c.unilateral, c.friction});
+      constraints_.push_back({c.name, c.kind, c.active_by_default, "", c.unilateral, c.friction, c.rough});
     for (const auto& o : d_->outputs()) outputs_.push_back(o.name);
   }
 

@@ -42,6 +42,7 @@ struct ConstraintOffer {
   std::string meaning;
   bool unilateral = false;   ///< a unilateral contact (issue 12: switched by contact.switching)
   std::string friction_of;   ///< a friction constraint: the unilateral constraint it acts at
+  bool rough = false;        ///< with friction_of: a rough row (held while that contact is closed)
 };
 
 /// A holonomic constraint added by a case ([constraints.added] NAME = "expression").

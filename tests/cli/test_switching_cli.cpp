@@ -175,8 +175,9 @@ BOOST_AUTO_TEST_CASE(event_budget_message_counts_in_the_right_number) {
 // Issue 22 (WHL): the coin on the vibrating plane (a frictionless spatial `wheel`, unilateral)
 // from the shell: it lifts off at sin(omega t) = g / (A omega^2) and lands at the closed-form
 // instant (models/contact/coin_bodies.toml; the numbers are the tests' in
-// tests/mech/contacts/test_switching_vibrating_table.cpp). The contact keys a spatial wheel does
-// not take are refused with exit 2, naming the model file and the key, nothing written.
+// tests/mech/contacts/test_switching_vibrating_table.cpp), and so does the coin that rolls while
+// it touches (its no-slip rows rough rows). Friction on a wheel, rolling or not, is refused with
+// exit 2, naming the model file and the key, nothing written.
 BOOST_AUTO_TEST_CASE(coin_on_a_wheel_joint_hops_and_wheel_contact_keys_that_do_not_apply_exit_2) {
   TempDir dir("switching_cli");
   const fs::path out = dir.path / "coin";
@@ -195,7 +196,18 @@ BOOST_AUTO_TEST_CASE(coin_on_a_wheel_joint_hops_and_wheel_contact_keys_that_do_n
   BOOST_TEST(std::abs(events[0].second - std::asin(9.81 / (0.002 * 100.0 * 100.0)) / 100.0) < 1e-9);
   BOOST_TEST(events[1].first == "impact");
   BOOST_TEST(std::abs(events[1].second - 0.0523657781873) < 1e-9);
-  // The model with its wheel rolling (no_slip left at its default), or with friction.
+  // The coin rolling (cases/coin_rolling_vibrating_plane.toml: its wheel's no-slip rows are
+  // rough rows, released in flight) lifts off and lands at the same instants.
+  const fs::path rolling = dir.path / "rolling";
+  const Result rr = pcsim("run cases/coin_rolling_vibrating_plane.toml --set solver.t_end=0.06 --out '" +
+                          rolling.string() + "'");
+  BOOST_REQUIRE_MESSAGE(rr.status == 0, rr.out);
+  const std::string rolled = read(rolling / "events.csv");
+  BOOST_TEST(rolled.find(",lift_off,bounce_n,contact,flight,") != std::string::npos, rolled);
+  BOOST_TEST(rolled.find(",impact,bounce_n,flight,contact,") != std::string::npos, rolled);
+  const double t_lift = std::stod(rolled.substr(rolled.find('\n') + 1));
+  BOOST_TEST(std::abs(t_lift - events[0].second) < 1e-9, rolled);
+  // Friction on either wheel: Coulomb's law in the plane is not carried.
   std::string model = read(fs::path(PCSIM_SOURCE_DIR) / "models/contact/coin_bodies.toml");
   const std::string ns = "\nno_slip = false";  // the key's line, not the header's mention
   const auto at = model.find(ns);
@@ -203,7 +215,7 @@ BOOST_AUTO_TEST_CASE(coin_on_a_wheel_joint_hops_and_wheel_contact_keys_that_do_n
   struct Bad {
     std::string replacement, key, why;
   };
-  for (const Bad& b : {Bad{"\n", "model.joint.bounce.unilateral", "one friction row per contact"},
+  for (const Bad& b : {Bad{"\nmu_static = 0.3", "model.joint.bounce.mu_static", "two friction rows"},
                        Bad{ns + "\nmu_static = 0.3", "model.joint.bounce.mu_static", "two friction rows"}}) {
     BOOST_TEST_CONTEXT(b.key) {
       std::string text = model;

@@ -122,7 +122,7 @@ BOOST_AUTO_TEST_CASE(expanded_text_reads_back_to_bit_identical_equations_and_out
 // the printed rows carry them (unilateral, restitution, friction, mu_static, mu_kinetic), the
 // expanded file gives the same contact data, and a switching run of it is the body model's, bit
 // for bit: the disk spun backwards on its rolling joint (one stick), the ball on its point_on_line
-// joint (impacts, accumulation).
+// joint (impacts, accumulation), the frictionless and the rolling coin (rough rows).
 BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_as_the_body_model) {
   struct Case {
     std::string file;
@@ -142,7 +142,14 @@ BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_a
       {"contact/coin_bodies.toml",
        {"name = \"bounce_n\"\nholonomic = \"coin_z - Z0 - r*bounce_sigma\"\nunilateral = true\nrestitution = \"e_n\"\n"},
        (Eigen::VectorXd(7) << 0.0, 0.0, 1.512, std::sqrt(0.5), std::sqrt(0.5), 0.0, 0.0).finished(),
-       (Eigen::VectorXd(7) << 0.1, 0.0, 0.0, 0.0, 0.0, -10 * std::sqrt(0.5), 10 * std::sqrt(0.5)).finished()}};
+       (Eigen::VectorXd(7) << 0.1, 0.0, 0.0, 0.0, 0.0, -10 * std::sqrt(0.5), 10 * std::sqrt(0.5)).finished()},
+      // The rolling spatial wheel, unilateral (issue 22): its no-slip rows printed as rough rows;
+      // dropped 0.1 m moving at 0.4 m/s and turning at 10 rad/s about ground y (a rough landing).
+      {"contact/coin_rolling_bodies.toml",
+       {"name = \"bounce_n\"\nholonomic = \"coin_z - Z0 - r*bounce_sigma\"\nunilateral = true\nrestitution = \"e_n\"\n",
+        "friction = \"bounce_n\"\nrough = true\n"},
+       (Eigen::VectorXd(7) << 0.0, 0.0, 0.112, std::sqrt(0.5), std::sqrt(0.5), 0.0, 0.0).finished(),
+       (Eigen::VectorXd(7) << 0.4, 0.0, 0.0, 0.0, 0.0, 5 * std::sqrt(0.5), -5 * std::sqrt(0.5)).finished()}};
   for (const Case& c : cases) {
     BOOST_TEST_CONTEXT(c.file) {
       const auto src = detail::load_model_source(model_path(c.file));
@@ -158,6 +165,7 @@ BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_a
         BOOST_TEST(ca.unilateral == cb.unilateral);
         BOOST_TEST(ca.restitution == cb.restitution);
         BOOST_TEST(ca.friction_of == cb.friction_of);
+        BOOST_TEST(ca.rough == cb.rough);
         BOOST_TEST(ca.mu_static == cb.mu_static);
         BOOST_TEST(ca.mu_kinetic == cb.mu_kinetic);
         contacts += ca.unilateral ? 1 : 0;

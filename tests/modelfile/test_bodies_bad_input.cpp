@@ -196,12 +196,13 @@ BOOST_AUTO_TEST_CASE(restitution_or_friction_without_a_unilateral_gap_row_is_ref
   expect_error(kSpatial + "[model.joint.p]\ntype = \"point_on_plane\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n"
                           "unilateral = true\nmu_static = 0.3\n",
                {"model.joint.p.mu_static", "no friction on a point_on_plane", "one row per contact"});
-  expect_error(kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nradius = 0.3\n"
-                          "unilateral = true\n",
-               {"model.joint.w.unilateral", "rolling wheel", "one friction row per contact", "no_slip = false"});
-  // Issue 22 (WHL): a wheel's contact keys, each refused by name with the reason.
+  // Issue 22 (WHL): a wheel's contact keys, each refused by name with the reason. A rolling wheel
+  // takes unilateral and restitution (its no-slip rows become rough rows); friction no wheel.
   const std::string wheel = kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nradius = 0.3\n";
-  expect_error(wheel + "restitution = 0.5\n", {"m.toml", "model.joint.w.restitution", "rolling wheel", "2-D Coulomb cone"});
+  BOOST_CHECK_EQUAL(error_of(wheel + "unilateral = true\nrestitution = 0.5\n"), "");
+  expect_error(wheel + "restitution = 0.5\n", {"m.toml", "model.joint.w.restitution", "only with unilateral = true"});
+  expect_error(wheel + "unilateral = true\nmu_static = 0.3\n",
+               {"m.toml", "model.joint.w.mu_static", "no friction on a wheel", "two friction rows"});
   // The surface a wheel rolls on (docs/bodies-spatial.md "Joints").
   expect_error(wheel + "surface = \"cylinder\"\n", {"m.toml", "model.joint.w.surface", "\"plane\"", "\"sphere\"", "got 'cylinder'"});
   expect_error(wheel + "surface = \"sphere\"\n", {"m.toml", "model.joint.w.sphere_radius", "the sphere's radius"});

@@ -354,4 +354,18 @@ BOOST_AUTO_TEST_CASE(contact_attributes_are_checked) {
   BOOST_TEST(c[2].contact.mu_kinetic == 0.5);
   BOOST_TEST(!c[0].contact.unilateral);
   BOOST_TEST(!c[0].contact.is_friction());
+  // Rough rows (issue 22): `rough = true` with friction, in velocity form, without coefficients.
+  const std::string rough = base + "[[model.constraint]]\nname = \"grip\"\nvelocity = { x = \"1\" }\nfriction = \"floor\"\n"
+                                   "rough = true\n";
+  expect_rejected(rough + "mu_static = 0.3\n", "model.constraint[grip].mu_static", {"rough = true, not both", "never slips"});
+  expect_rejected(base + "[[model.constraint]]\nname = \"grip\"\nholonomic = \"x\"\nfriction = \"floor\"\nrough = true\n",
+                  "model.constraint[grip].rough", {"velocity form"});
+  expect_rejected(base + "[[model.constraint]]\nname = \"grip\"\nvelocity = { x = \"1\" }\nrough = true\n",
+                  "model.constraint[grip].rough", {"only with friction = \"NAME\""});
+  expect_rejected(base + "[[model.constraint]]\nname = \"grip\"\nvelocity = { x = \"1\" }\nfriction = \"floor\"\nrough = 1\n",
+                  "model.constraint[grip].rough", {});
+  const auto rm = load_model_file(write(rough))->instantiate({});
+  BOOST_TEST(rm->constraints()[2].contact.rough);
+  BOOST_TEST(rm->constraints()[2].contact.friction_of == 1);
+  BOOST_TEST(!rm->constraints()[2].contact.is_coulomb());
 }

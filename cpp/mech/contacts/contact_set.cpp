@@ -42,9 +42,14 @@ ContactSet::ContactSet(const Model& model, std::vector<int> active, Accuracy acc
     for (ContactDef& d : contacts_)
       if (d.normal == ci.contact.friction_of) owner = &d;
     if (!owner) {
-      why = "the friction constraint '" + ci.name + "' acts at the unilateral constraint '" +
-            model.constraints()[ci.contact.friction_of].name +
+      why = "the " + std::string(ci.contact.rough ? "rough" : "friction") + " constraint '" + ci.name +
+            "' acts at the unilateral constraint '" + model.constraints()[ci.contact.friction_of].name +
             "', which is not active (activate both, or neither)";
+    } else if (ci.contact.rough) {
+      if (ci.kind != ConstraintKind::velocity)
+        why = "the rough constraint '" + ci.name + "' is not in velocity form";
+      owner->rough.push_back(i);
+      any_rough_ = true;
     } else if (owner->friction >= 0) {
       why = "the unilateral constraint '" + owner->name + "' has two active friction constraints ('" +
             model.constraints()[owner->friction].name + "' and '" + ci.name + "'); activate one";
@@ -53,10 +58,21 @@ ContactSet::ContactSet(const Model& model, std::vector<int> active, Accuracy acc
       contacts_.clear();
       return;
     }
+    if (ci.contact.rough) continue;
     owner->friction = i;
     owner->mu_s = ci.contact.mu_static;
     owner->mu_k = ci.contact.mu_kinetic;
   }
+  // A contact either rolls perfectly rough (rough rows) or obeys Coulomb's law (one friction
+  // row): the switching engine has no law for a rough contact that may also slip.
+  for (const ContactDef& d : contacts_)
+    if (d.friction >= 0 && !d.rough.empty()) {
+      why = "the unilateral constraint '" + d.name + "' has rough rows ('" +
+            model.constraints()[d.rough[0]].name + "') and a friction constraint ('" +
+            model.constraints()[d.friction].name + "'); activate one kind";
+      contacts_.clear();
+      return;
+    }
 }
 
 Layout ContactSet::layout(const Config& cfg) const {
@@ -71,6 +87,9 @@ Layout ContactSet::layout(const Config& cfg) const {
       c = contact_of_normal(i);
       if (!is_closed(cfg.modes[c])) continue;
       L.normal_pos[c] = static_cast<int>(rows.size());
+    } else if (ci.rough) {
+      c = contact_of_normal(ci.friction_of);
+      if (c < 0 || !is_closed(cfg.modes[c])) continue;
     } else if (ci.is_friction()) {
       c = contact_of_friction(i);
       if (c < 0 || cfg.modes[c] != ContactMode::stick) continue;

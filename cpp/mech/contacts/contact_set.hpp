@@ -22,6 +22,8 @@ std::string num(double v);
 struct ContactDef {
   int normal = -1;    ///< constraint index of the unilateral constraint
   int friction = -1;  ///< constraint index of its active friction constraint, or -1
+  /// Constraint indices of its rough rows (ContactInfo::rough): imposed while it is closed.
+  std::vector<int> rough;
   int sign = 1;       ///< gap = sign Φ, normal force = sign λ
   double e = 0.0, mu_s = 0.0, mu_k = 0.0;
   std::string name;
@@ -38,7 +40,7 @@ struct Config {
 };
 
 /// The active set of a configuration: the constraints imposed (case order: bilateral ones,
-/// closed normals, sticking friction rows), then the rows of sliding friction constraints
+/// closed normals and their rough rows, sticking friction rows), then the rows of sliding friction constraints
 /// (not imposed: their row is the direction of the friction force and their g q̇ + g0 the
 /// sliding velocity).
 struct Layout {
@@ -74,6 +76,8 @@ class ContactSet {
   const std::vector<int>& active() const { return active_; }
   /// The active constraints that are neither unilateral nor friction constraints.
   const std::vector<int>& bilateral() const { return bilateral_; }
+  /// Whether any contact has rough rows (without: every path is the one before them).
+  bool any_rough() const { return any_rough_; }
 
   /// The rows a configuration imposes, then its sliding rows.
   Layout layout(const Config& cfg) const;
@@ -123,6 +127,7 @@ class ContactSet {
   std::vector<ContactDef> contacts_;
   Accuracy acc_;
   int n_;
+  bool any_rough_ = false;
 };
 
 /// Reactions at one state for one configuration.

@@ -26,6 +26,12 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
   p.impulse = true;
   bool approaching = false;
   std::vector<double> vtol_of(nc, 0.0);
+  // Rough rows (ContactInfo::rough) of the touching contacts take part as bilateral rows: a
+  // rough landing stops the contact point's sliding in the impact (the perfectly rough impact,
+  // Routh's limit of infinite friction). A contact that touches down from a flight with its
+  // rough rows moving needs that impulse even without a normal approach.
+  std::vector<int> extra;
+  bool rough_landing = false;
   for (int c = 0; c < nc; ++c) {
     if (!(cs_.gap(c, t, q) <= cs_.gap_tol(c, t, q))) continue;
     Cand k;
@@ -40,15 +46,34 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
     k.e = approaches ? cs_[c].e : 0.0;
     p.cands.push_back(k);
     approaching = approaching || approaches;
+    for (int i : cs_[c].rough) {
+      extra.push_back(i);
+      if (!is_closed(before.modes[c])) {
+        const Row r = cs_.row(i, t, q, qd);
+        rough_landing = rough_landing || std::abs(r.value(qd)) > cs_.velocity_tol(r, qd);
+      }
+    }
   }
-  if (!approaching) return true;
+  if (!approaching && !rough_landing) return true;
   Eigen::MatrixXd J, P;
-  Eigen::VectorXd j0, jg, aB;
+  Eigen::VectorXd j0, jg, aB, dv0;
   rows_of(cs_, p, t, q, qd, J, j0, jg);
-  if (contact_inertia(d_, cs_, t, q, qd, P, aB, message) != ModelIssue::none) return false;
+  if (contact_inertia(d_, cs_, t, q, qd, P, aB, message, extra, extra.empty() ? nullptr : &dv0) !=
+      ModelIssue::none)
+    return false;
   const Eigen::MatrixXd M = d_.M;
+  // With rough rows: the impulse that brings them to rest first (dv0, the M-weighted projection
+  // onto them; it never creates kinetic energy on fixed surfaces), then Newton's law and the
+  // energy rule on the normal velocities it leaves (a sequential rough impact: for a wheel
+  // landing upright the rough impulse does not change the normal approach).
+  const Eigen::VectorXd v_true = J * qd + j0;  // velocities before (reported)
+  double dT_rough = 0.0;
+  if (!extra.empty()) {
+    dT_rough = qd.dot(M * dv0) + 0.5 * dv0.dot(M * dv0);
+    qd += dv0;
+  }
   p.W = J * P * J.transpose();
-  p.f = J * qd + j0;  // velocities before
+  p.f = J * qd + j0;  // velocities before (after the rough impulse)
   const Eigen::VectorXd v_before = p.f;
   // The change of kinetic energy by the contact impulses Λ, from the velocity change they
   // make (Δq̇ = P Jᵀ Λ): ΔT = q̇⁻ᵀ M Δq̇ + ½ Δq̇ᵀ M Δq̇ + Λ·j0. For scleronomic contacts this is
@@ -171,13 +196,18 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
       return false;
     }
   }
-  counters_.last_energy_change = dT;
+  counters_.last_energy_change = dT + dT_rough;
   const Eigen::VectorXd dqd = P * (J.transpose() * Lam);
+  bool rough_booked = dT_rough == 0.0;
   for (const Cand& k : p.cands) {
     const double ln = Lam[k.kn], lt = k.kt >= 0 ? Lam[k.kt] : 0.0;
     const double vb = v_before[k.kn], va = v_after[k.kn];
     const double vtb = k.kt >= 0 ? v_before[k.kt] : 0.0, vta = k.kt >= 0 ? v_after[k.kt] : 0.0;
-    const double lost = -0.5 * (ln * (va + vb) + lt * (vta + vtb));
+    double lost = -0.5 * (ln * (va + vb) + lt * (vta + vtb));
+    if (!rough_booked && !cs_[k.c].rough.empty()) {  // the rough impulse's loss, to the first rough contact
+      lost -= dT_rough;
+      rough_booked = true;
+    }
     if (!(vb < -vtol_of[k.c])) {
       // A closed contact that took part: its share of the loss is booked with the impact,
       // its impulse reported with its own switch (a lift-off), if any.
@@ -195,7 +225,7 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
     ev.mode_before = before.modes[k.c];
     ev.normal = ln;
     ev.tangential = lt;
-    ev.vn_before = vb;
+    ev.vn_before = v_true[k.kn];
     ev.vn_after = va;
     ev.vt_before = vtb;
     ev.vt_after = vta;

@@ -42,9 +42,11 @@ void rows_of(const ContactSet& cs, Problem& p, double t, const Eigen::VectorXd& 
 
 ModelIssue contact_inertia(Dynamics& d, const ContactSet& cs, double t, const Eigen::VectorXd& q,
                            const Eigen::VectorXd& qd, Eigen::MatrixXd& P, Eigen::VectorXd& aB,
-                           std::string& message) {
+                           std::string& message, const std::vector<int>& extra, Eigen::VectorXd* dv0) {
   const int n = cs.n();
-  const ActiveSet bset = ActiveSet::of(cs.model(), cs.bilateral());
+  std::vector<int> brows = cs.bilateral();
+  brows.insert(brows.end(), extra.begin(), extra.end());
+  const ActiveSet bset = ActiveSet::of(cs.model(), brows);
   Eigen::LLT<Eigen::MatrixXd> llt(n);
   ModelIssue e = d.evaluate(bset, t, q, qd);
   if (e != ModelIssue::none) {
@@ -59,10 +61,13 @@ ModelIssue contact_inertia(Dynamics& d, const ContactSet& cs, double t, const Ei
   aB = d.qdd;
   llt.compute(d.M);
   P = llt.solve(Eigen::MatrixXd::Identity(n, n));
-  if (!cs.bilateral().empty()) {
+  if (dv0) *dv0 = Eigen::VectorXd::Zero(n);
+  if (!brows.empty()) {
     const Eigen::MatrixXd MinvgT = llt.solve(d.g.transpose());
     const Eigen::MatrixXd S = d.g * MinvgT;
-    P -= MinvgT * S.ldlt().solve(MinvgT.transpose());
+    const auto Sf = S.ldlt();
+    P -= MinvgT * Sf.solve(MinvgT.transpose());
+    if (dv0) *dv0 = -MinvgT * Sf.solve(d.g * qd + d.g0);
   }
   P = 0.5 * (P + P.transpose());
   return ModelIssue::none;

@@ -55,10 +55,13 @@ void rows_of(const ContactSet& cs, Problem& p, double t, const Eigen::VectorXd& 
 
 /// P = M⁻¹ − M⁻¹ g_Bᵀ (g_B M⁻¹ g_Bᵀ)⁻¹ g_B M⁻¹ (the inverse inertia with the bilateral
 /// constraints imposed) and a_B, the acceleration with only the bilateral constraints, by `d`.
-/// On failure `message` says why.
+/// `extra`: constraints imposed with the bilateral ones (the rough rows of the contacts that
+/// take part); `dv0`, if given: the velocity change −M⁻¹ g_Bᵀ (g_B M⁻¹ g_Bᵀ)⁻¹ (g_B q̇ + g0_B)
+/// of the impulse that brings those rows to rest (a rough landing). On failure `message` says why.
 ModelIssue contact_inertia(Dynamics& d, const ContactSet& cs, double t, const Eigen::VectorXd& q,
                            const Eigen::VectorXd& qd, Eigen::MatrixXd& P, Eigen::VectorXd& aB,
-                           std::string& message);
+                           std::string& message, const std::vector<int>& extra = {},
+                           Eigen::VectorXd* dv0 = nullptr);
 
 /// Solves the problem: closed form for one candidate (settings permitting), else the LCP
 /// solver. Returns false with `message` set when no solution is found.

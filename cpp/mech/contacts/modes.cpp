@@ -53,40 +53,62 @@ bool ModeLogic::decide(double t, const Eigen::VectorXd& q, const Eigen::VectorXd
     p.cands.push_back(k);
   }
   if (p.cands.empty()) return true;
-  Eigen::MatrixXd J, P;
-  Eigen::VectorXd j0, jg, aB;
-  rows_of(cs_, p, t, q, qd, J, j0, jg);
-  if (contact_inertia(aux_dyn_, cs_, t, q, qd, P, aB, message_) != ModelIssue::none) return false;
-  p.W = J * P * J.transpose();
-  p.f = J * aB + jg;  // accelerations without contact forces
-  LcpSettings settings;
-  settings.closed_form_single = !force_lcp && lcp_policy_ == SwitchingOptions::Lcp::several_contacts;
-  settings.solver = lcp_solver_;
-  Eigen::VectorXd z;
-  if (!solve_problem(cs_, p, settings, t, z, lcp_counters_, message_)) return false;
-  const Eigen::VectorXd w = p.A * z + p.b;
-  const Eigen::VectorXd acc = p.f + p.W * (p.E * z);
-  const double scale = 1.0 + p.f.cwiseAbs().maxCoeff() + (p.W * (p.E * z)).cwiseAbs().maxCoeff();
-  const double tol = 1e-9 * scale;
-  for (const Cand& k : p.cands) {
-    const bool separates = z[k.zn] <= tol && w[k.zn] > tol;
-    if (separates) continue;
-    if (cs_[k.c].friction < 0) {
-      cfg.modes[k.c] = ContactMode::contact;
-    } else if (k.frictional) {
-      const double zeta = z[k.zn + 3];
-      if (zeta <= tol) {
-        cfg.modes[k.c] = ContactMode::stick;
+  // Rough rows (ContactInfo::rough) hold while their contact is closed: they are imposed with
+  // the bilateral rows for every candidate. A candidate that separates with them is open, so
+  // its rows are released and the others decided again without it (at most once per contact).
+  const std::vector<Cand> cands = p.cands;
+  std::vector<char> dropped(cs_.nc(), 0);
+  for (;;) {
+    p = Problem{};
+    std::vector<int> extra;
+    for (const Cand& k : cands) {
+      if (dropped[k.c]) continue;
+      p.cands.push_back(k);
+      extra.insert(extra.end(), cs_[k.c].rough.begin(), cs_[k.c].rough.end());
+    }
+    if (p.cands.empty()) return true;
+    Eigen::MatrixXd J, P;
+    Eigen::VectorXd j0, jg, aB;
+    rows_of(cs_, p, t, q, qd, J, j0, jg);
+    if (contact_inertia(aux_dyn_, cs_, t, q, qd, P, aB, message_, extra) != ModelIssue::none) return false;
+    p.W = J * P * J.transpose();
+    p.f = J * aB + jg;  // accelerations without contact forces
+    LcpSettings settings;
+    settings.closed_form_single = !force_lcp && lcp_policy_ == SwitchingOptions::Lcp::several_contacts;
+    settings.solver = lcp_solver_;
+    Eigen::VectorXd z;
+    if (!solve_problem(cs_, p, settings, t, z, lcp_counters_, message_)) return false;
+    const Eigen::VectorXd w = p.A * z + p.b;
+    const Eigen::VectorXd acc = p.f + p.W * (p.E * z);
+    const double scale = 1.0 + p.f.cwiseAbs().maxCoeff() + (p.W * (p.E * z)).cwiseAbs().maxCoeff();
+    const double tol = 1e-9 * scale;
+    bool again = false;
+    for (const Cand& k : p.cands)
+      if (!cs_[k.c].rough.empty() && z[k.zn] <= tol && w[k.zn] > tol) {
+        dropped[k.c] = 1;
+        again = true;
+      }
+    if (again) continue;
+    for (const Cand& k : p.cands) {
+      const bool separates = z[k.zn] <= tol && w[k.zn] > tol;
+      if (separates) continue;
+      if (cs_[k.c].friction < 0) {
+        cfg.modes[k.c] = ContactMode::contact;
+      } else if (k.frictional) {
+        const double zeta = z[k.zn + 3];
+        if (zeta <= tol) {
+          cfg.modes[k.c] = ContactMode::stick;
+        } else {
+          cfg.modes[k.c] = ContactMode::slip;
+          cfg.sigma[k.c] = acc[k.kt] > 0 ? 1 : -1;
+        }
       } else {
         cfg.modes[k.c] = ContactMode::slip;
-        cfg.sigma[k.c] = acc[k.kt] > 0 ? 1 : -1;
+        cfg.sigma[k.c] = k.sigma;
       }
-    } else {
-      cfg.modes[k.c] = ContactMode::slip;
-      cfg.sigma[k.c] = k.sigma;
     }
+    return true;
   }
-  return true;
 }
 
 /// Marks the sticking friction rows that depend on the other imposed rows at this state as
@@ -98,10 +120,10 @@ bool ModeLogic::mark_implied(double t, const Eigen::VectorXd& q, const Eigen::Ve
   if (L.imposed.empty()) return true;
   std::vector<int> order;
   for (int i : L.imposed)
-    if (!cs_.model().constraints()[i].contact.is_friction()) order.push_back(i);
+    if (!cs_.model().constraints()[i].contact.is_coulomb()) order.push_back(i);
   const int n_plain = static_cast<int>(order.size());
   for (int i : L.imposed)
-    if (cs_.model().constraints()[i].contact.is_friction()) order.push_back(i);
+    if (cs_.model().constraints()[i].contact.is_coulomb()) order.push_back(i);
   const int s = static_cast<int>(order.size());
   Eigen::MatrixXd g(s, cs_.n());
   Eigen::VectorXd g0(s), gamma(s);
