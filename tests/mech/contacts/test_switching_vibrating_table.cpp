@@ -17,6 +17,29 @@ using namespace switching_test;
 
 namespace {
 constexpr double kG = 9.81, kA = 0.002, kW = 100.0;
+
+// The upright coin's flight off the vibrating plane, in the plane's frame (closed form): it rides
+// the plane until sin(omega ts) = g / (A omega^2), then flies with the relative acceleration
+// -g + A omega^2 sin(omega t); the landing t_land (bisection on the gap) and its speed v_land.
+struct PlaneFlight {
+  double ts, t_land, v_land;
+  double gap(double t) const {  // the relative acceleration integrated twice from ts
+    const double s = t - ts;
+    return -0.5 * kG * s * s + kA * (std::cos(kW * ts) * kW * s - (std::sin(kW * t) - std::sin(kW * ts)));
+  }
+};
+PlaneFlight plane_flight() {
+  PlaneFlight f{std::asin(kG / (kA * kW * kW)) / kW, 0.0, 0.0};
+  double lo = f.ts + 1e-4, hi = lo;
+  while (f.gap(hi) > 0.0) hi += 1e-4;
+  for (int it = 0; it < 200 && hi - lo > 1e-16; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (f.gap(mid) > 0.0 ? lo : hi) = mid;
+  }
+  f.t_land = hi;
+  f.v_land = -kG * (hi - f.ts) + kA * kW * (std::cos(kW * f.ts) - std::cos(kW * hi));
+  return f;
+}
 }
 
 BOOST_AUTO_TEST_CASE(lift_off_flight_and_landing_follow_the_closed_form) {
@@ -130,22 +153,9 @@ BOOST_AUTO_TEST_CASE(ball_on_a_driven_body_lifts_off_at_the_closed_form_instant_
 // to 1e-9 s and 2e-8 m/s.
 BOOST_AUTO_TEST_CASE(upright_coin_on_a_vibrating_plane_lifts_off_and_lands_at_the_closed_form_instants) {
   const double r = 0.012, spin = 30.0, c45 = std::sqrt(0.5);
-  const double ts = std::asin(kG / (kA * kW * kW)) / kW;
-  // The table's closed form in its own frame: the coin rides it (gap 0, relative velocity 0)
-  // until ts, then flies with relative acceleration -g + A omega^2 sin(omega t).
-  const double vs = 0.0;
-  auto gap = [&](double t) {  // integral of the relative acceleration from ts, twice
-    const double s = t - ts;
-    return -0.5 * kG * s * s + kA * (std::cos(kW * ts) * kW * s - (std::sin(kW * t) - std::sin(kW * ts))) + vs * s;
-  };
-  double lo = ts + 1e-4, hi = lo;
-  while (gap(hi) > 0.0) hi += 1e-4;
-  for (int it = 0; it < 200 && hi - lo > 1e-16; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (gap(mid) > 0.0 ? lo : hi) = mid;
-  }
-  const double t_land = hi;
-  const double v_land = -kG * (t_land - ts) + kA * kW * (std::cos(kW * ts) - std::cos(kW * t_land));
+  const PlaneFlight f = plane_flight();
+  const double ts = f.ts, t_land = f.t_land, v_land = f.v_land;
+  auto gap = [&](double t) { return f.gap(t); };
   for (double off : {0.0, 1000.0}) {
     BOOST_TEST_CONTEXT("plane at (" << off << ", " << off << ", " << -off << ")") {
       const auto d = modelfile::load_model_file(std::string(PCSIM_SOURCE_DIR) + "/models/contact/coin_bodies.toml");
@@ -217,10 +227,11 @@ void coin_state(const modelfile::ModelDescription& d, double x, double z, double
   qd[at("coin_x")] = vx;
   qd[at("coin_z")] = vz;
   // ė = ½ Eᵀ ω, E = [−e1 e0 −e3 e2; −e2 e3 e0 −e1; −e3 −e2 e1 e0], ω = (0, wy, 0)
-  qd[at("coin_e0")] = 0.5 * (-0.0) * wy;  // −e2 wy = 0
-  qd[at("coin_e1")] = 0.0;                 // e3 wy = 0
-  qd[at("coin_e2")] = 0.5 * c45 * wy;      // e0 wy
-  qd[at("coin_e3")] = -0.5 * c45 * wy;     // −e1 wy
+  const double e[4] = {c45, c45, 0.0, 0.0};
+  Eigen::Matrix<double, 3, 4> E;
+  E << -e[1], e[0], -e[3], e[2], -e[2], e[3], e[0], -e[1], -e[3], -e[2], e[1], e[0];
+  const Eigen::Vector4d ed = 0.5 * E.transpose() * Eigen::Vector3d(0.0, wy, 0.0);
+  for (int k = 0; k < 4; ++k) qd[at("coin_e" + std::to_string(k))] = ed[k];
 }
 
 }  // namespace
@@ -298,19 +309,8 @@ BOOST_AUTO_TEST_CASE(a_rolling_wheel_on_a_vibrating_plane_lifts_off_and_rolls_on
   Trace trace;
   const auto b = run(*model, q0, qd0, 0.2, o, sw, &trace);
   BOOST_REQUIRE_MESSAGE(b.status == SimulationStatus::success, b.message);
-  const double ts = std::asin(kG / (kA * kW * kW)) / kW;
-  auto gap = [&](double t) {
-    const double s = t - ts;
-    return -0.5 * kG * s * s + kA * (std::cos(kW * ts) * kW * s - (std::sin(kW * t) - std::sin(kW * ts)));
-  };
-  double lo = ts + 1e-4, hi = lo;
-  while (gap(hi) > 0.0) hi += 1e-4;
-  for (int it = 0; it < 200 && hi - lo > 1e-16; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (gap(mid) > 0.0 ? lo : hi) = mid;
-  }
-  const double t_land = hi;
-  const double v_land = -kG * (t_land - ts) + kA * kW * (std::cos(kW * ts) - std::cos(kW * t_land));
+  const PlaneFlight f = plane_flight();
+  const double ts = f.ts, t_land = f.t_land, v_land = f.v_land;
   const auto lifts = events_of(b, ContactEventKind::lift_off);
   const auto impacts = events_of(b, ContactEventKind::impact);
   BOOST_REQUIRE(lifts.size() >= 2u);
