@@ -746,8 +746,10 @@ ModelIssue Dynamics::solve_sliding_structured(int imposed,
   if (llt_.info() != Eigen::Success) return fail(ModelIssue::singular_mass_matrix, "M is not positive definite");
   const Eigen::MatrixXd gA = g.topRows(sA);
   Eigen::MatrixXd B = gA.transpose();  // n x sA: g_Aᵀ + F
-  for (const SlidingFriction& c : sliding)
-    B.col(c.normal_row) += -c.coefficient * g.row(c.friction_row).transpose();
+  for (const SlidingFriction& c : sliding) {
+    B.col(c.normal_row) += -c.coefficient * c.w1 * g.row(c.friction_row).transpose();
+    if (c.friction_row2 >= 0) B.col(c.normal_row) += -c.coefficient * c.w2 * g.row(c.friction_row2).transpose();
+  }
   const Eigen::VectorXd a0 = llt_.solve(f);
   const Eigen::MatrixXd MinvB = llt_.solve(B);
   const Eigen::MatrixXd S = gA * MinvB;
@@ -760,7 +762,10 @@ ModelIssue Dynamics::solve_sliding_structured(int imposed,
   lambda.head(sA) = lu.solve(rhs);
   R = B * lambda.head(sA);
   qdd = a0 + MinvB * lambda.head(sA);
-  for (const SlidingFriction& c : sliding) lambda[c.friction_row] = -c.coefficient * lambda[c.normal_row];
+  for (const SlidingFriction& c : sliding) {
+    lambda[c.friction_row] = -c.coefficient * c.w1 * lambda[c.normal_row];
+    if (c.friction_row2 >= 0) lambda[c.friction_row2] = -c.coefficient * c.w2 * lambda[c.normal_row];
+  }
   if (!R.allFinite() || !qdd.allFinite())
     return fail(ModelIssue::non_finite, "the reactions with sliding friction are not finite");
   return ModelIssue::none;
@@ -777,8 +782,10 @@ ModelIssue Dynamics::solve_sliding_dense(int imposed, const std::vector<SlidingF
   rhs.head(sA) = -G0.head(sA);
   Ad.middleRows(sA, n_ - s_all) = D.transpose();
   int r = n_ - (s_all - sA);
-  for (const SlidingFriction& c : sliding)
-    Ad.row(r++) = C.row(c.friction_row) + c.coefficient * C.row(c.normal_row);
+  for (const SlidingFriction& c : sliding) {
+    Ad.row(r++) = C.row(c.friction_row) + c.coefficient * c.w1 * C.row(c.normal_row);
+    if (c.friction_row2 >= 0) Ad.row(r++) = C.row(c.friction_row2) + c.coefficient * c.w2 * C.row(c.normal_row);
+  }
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Ad);
   R = lu.solve(rhs);
   qdd = llt_.solve(f + R);

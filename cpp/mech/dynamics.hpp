@@ -46,10 +46,15 @@ class ActiveSet {
 /// the evaluated set that carry its normal and its friction direction, and c = μ_k σ sign (the
 /// kinetic friction coefficient, the sliding direction ±1, the gap's sign ±1): the friction
 /// force is −c λ_normal along the friction row.
+/// A 2-D Coulomb cone slides along both its rows: friction_row2 >= 0, and the force is
+/// −c λ_normal (w1 along friction_row + w2 along friction_row2), (w1, w2) the unit sliding
+/// direction.
 struct SlidingFriction {
   int normal_row = -1;
   int friction_row = -1;
   double coefficient = 0.0;
+  int friction_row2 = -1;
+  double w1 = 1.0, w2 = 0.0;
 };
 
 class Dynamics {

@@ -50,16 +50,24 @@ ContactSet::ContactSet(const Model& model, std::vector<int> active, Accuracy acc
         why = "the rough constraint '" + ci.name + "' is not in velocity form";
       owner->rough.push_back(i);
       any_rough_ = true;
-    } else if (owner->friction >= 0) {
-      why = "the unilateral constraint '" + owner->name + "' has two active friction constraints ('" +
-            model.constraints()[owner->friction].name + "' and '" + ci.name + "'); activate one";
+    } else if (owner->friction2 >= 0) {
+      why = "the unilateral constraint '" + owner->name + "' has three active friction constraints ('" +
+            model.constraints()[owner->friction].name + "', '" + model.constraints()[owner->friction2].name +
+            "' and '" + ci.name + "'); a contact slides along a line (one friction row) or in a plane (two)";
+    } else if (owner->friction >= 0 && (ci.contact.mu_static != owner->mu_s || ci.contact.mu_kinetic != owner->mu_k)) {
+      why = "the friction constraints '" + model.constraints()[owner->friction].name + "' and '" + ci.name +
+            "' of the unilateral constraint '" + owner->name + "' have different coefficients (mu_static " +
+            num(owner->mu_s) + " and " + num(ci.contact.mu_static) + ", mu_kinetic " + num(owner->mu_k) + " and " +
+            num(ci.contact.mu_kinetic) + "): the two rows of a 2-D Coulomb cone share one isotropic law";
     }
     if (!why.empty()) {
       contacts_.clear();
       return;
     }
     if (ci.contact.rough) continue;
-    owner->friction = i;
+    // A second friction row makes the contact's cone 2-D: the rows are the sliding velocity's
+    // components along orthonormal tangent directions (docs/switching.md "2-D Coulomb cone").
+    (owner->friction >= 0 ? owner->friction2 : owner->friction) = i;
     owner->mu_s = ci.contact.mu_static;
     owner->mu_k = ci.contact.mu_kinetic;
   }
@@ -80,6 +88,7 @@ Layout ContactSet::layout(const Config& cfg) const {
   std::vector<int> rows;
   L.normal_pos.assign(nc(), -1);
   L.friction_pos.assign(nc(), -1);
+  L.friction2_pos.assign(nc(), -1);
   for (int i : active_) {
     const ContactInfo& ci = model_.constraints()[i].contact;
     int c = -1;
@@ -93,8 +102,9 @@ Layout ContactSet::layout(const Config& cfg) const {
     } else if (ci.is_friction()) {
       c = contact_of_friction(i);
       if (c < 0 || cfg.modes[c] != ContactMode::stick) continue;
-      if (!cfg.implied.empty() && cfg.implied[c]) continue;
-      L.friction_pos[c] = static_cast<int>(rows.size());
+      const int bit = i == contacts_[c].friction2 ? 2 : 1;
+      if (!cfg.implied.empty() && (cfg.implied[c] & bit)) continue;
+      (bit == 2 ? L.friction2_pos : L.friction_pos)[c] = static_cast<int>(rows.size());
     }
     rows.push_back(i);
   }
@@ -104,6 +114,10 @@ Layout ContactSet::layout(const Config& cfg) const {
     if (cfg.modes[c] == ContactMode::slip) {
       L.friction_pos[c] = static_cast<int>(rows.size());
       rows.push_back(contacts_[c].friction);
+      if (contacts_[c].cone()) {
+        L.friction2_pos[c] = static_cast<int>(rows.size());
+        rows.push_back(contacts_[c].friction2);
+      }
     }
   }
   L.set = ActiveSet::of(model_, rows);
@@ -118,7 +132,7 @@ int ContactSet::contact_of_normal(int constraint) const {
 
 int ContactSet::contact_of_friction(int constraint) const {
   for (int c = 0; c < nc(); ++c)
-    if (contacts_[c].friction == constraint) return c;
+    if (contacts_[c].friction == constraint || contacts_[c].friction2 == constraint) return c;
   return -1;
 }
 
@@ -157,6 +171,16 @@ double ContactSet::vt(int c, double t, const Eigen::VectorXd& q, const Eigen::Ve
   return row(contacts_[c].friction, t, q, qd).value(qd);
 }
 
+Eigen::Vector2d ContactSet::vt2(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+  Eigen::Vector2d v(vt(c, t, q, qd), 0.0);
+  if (contacts_[c].cone()) v[1] = row(contacts_[c].friction2, t, q, qd).value(qd);
+  return v;
+}
+
+double ContactSet::speed(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+  return contacts_[c].cone() ? vt2(c, t, q, qd).norm() : std::abs(vt(c, t, q, qd));
+}
+
 double ContactSet::row_scale(const Row& r, double t, const Eigen::VectorXd& q) const {
   return r.g.cwiseAbs().dot(q.cwiseAbs()) + std::abs(r.g0 * t);
 }
@@ -184,7 +208,9 @@ double ContactSet::vn_tol(int c, double t, const Eigen::VectorXd& q,
 double ContactSet::vt_tol(int c, double t, const Eigen::VectorXd& q,
                           const Eigen::VectorXd& qd) const {
   if (contacts_[c].friction < 0) return 0.0;
-  return velocity_tol(row(contacts_[c].friction, t, q, qd), qd);
+  const double t1 = velocity_tol(row(contacts_[c].friction, t, q, qd), qd);
+  if (!contacts_[c].cone()) return t1;
+  return std::hypot(t1, velocity_tol(row(contacts_[c].friction2, t, q, qd), qd));
 }
 
 double ContactSet::velocity_round(const Row& r, const Eigen::VectorXd& qd) const {
@@ -201,9 +227,35 @@ ModelIssue solve_reactions(Dynamics& d, const ContactSet& cs, const Layout& L, c
     e = d.solve(method);
   } else {
     std::vector<SlidingFriction> sliding;
-    for (int c = 0; c < cs.nc(); ++c)
-      if (cfg.modes[c] == ContactMode::slip)
-        sliding.push_back({L.normal_pos[c], L.friction_pos[c], cs[c].mu_k * cfg.sigma[c] * cs[c].sign});
+    for (int c = 0; c < cs.nc(); ++c) {
+      if (cfg.modes[c] != ContactMode::slip) continue;
+      SlidingFriction sf{L.normal_pos[c], L.friction_pos[c], cs[c].mu_k * cfg.sigma[c] * cs[c].sign};
+      if (cs[c].cone()) {
+        // A 2-D cone: the friction force −μ_k λ_n v/|v| along the sliding velocity v = (v_t1,
+        // v_t2); while |v| is at rounding level (a slide that starts from rest) along the
+        // segment's direction, which v/|v| approaches continuously.
+        sf.friction_row2 = L.friction2_pos[c];
+        Eigen::Vector2d v = cs.vt2(c, t, q, qd);
+        // Past the segment's event (v behind its reference direction: the integrator's stages
+        // beyond a stop) the velocity is mirrored across the line normal to the reference: the
+        // force then continues smoothly (a slide that stops along a line keeps its direction, as
+        // the 1-D law keeps sigma), so the step that holds the stop is integrated accurately.
+        const Eigen::Vector2d ref = static_cast<std::size_t>(c) < cfg.dir.size() ? cfg.dir[c] : Eigen::Vector2d::Zero();
+        const double along = v.dot(ref);
+        if (along < 0.0) v -= 2.0 * along * ref;
+        const double vr = cs.velocity_round(cs.row(cs[c].friction, t, q, qd), qd) +
+                          cs.velocity_round(cs.row(cs[c].friction2, t, q, qd), qd);
+        const double len = v.norm();
+        if (len > vr)
+          v /= len;
+        else
+          v = static_cast<std::size_t>(c) < cfg.dir.size() ? cfg.dir[c] : Eigen::Vector2d(1.0, 0.0);
+        sf.coefficient = cs[c].mu_k * cs[c].sign;
+        sf.w1 = v[0];
+        sf.w2 = v[1];
+      }
+      sliding.push_back(sf);
+    }
     e = d.solve_sliding(method, L.s_A, sliding);
   }
   if (e != ModelIssue::none) return e;
@@ -212,13 +264,20 @@ ModelIssue solve_reactions(Dynamics& d, const ContactSet& cs, const Layout& L, c
   out.lambda = d.lambda.head(L.s_A);
   out.lambda_n.assign(cs.nc(), 0.0);
   out.lambda_t.assign(cs.nc(), 0.0);
+  out.lambda_t2.assign(cs.nc(), 0.0);
   for (int c = 0; c < cs.nc(); ++c) {
     if (L.normal_pos[c] < 0) continue;
     out.lambda_n[c] = cs[c].sign * out.lambda[L.normal_pos[c]];
     if (cfg.modes[c] == ContactMode::stick && L.friction_pos[c] >= 0)
       out.lambda_t[c] = out.lambda[L.friction_pos[c]];
-    if (cfg.modes[c] == ContactMode::slip)
+    if (cfg.modes[c] == ContactMode::stick && L.friction2_pos[c] >= 0)
+      out.lambda_t2[c] = out.lambda[L.friction2_pos[c]];
+    if (cfg.modes[c] == ContactMode::slip && !cs[c].cone())
       out.lambda_t[c] = -cs[c].mu_k * cfg.sigma[c] * out.lambda_n[c];
+    if (cfg.modes[c] == ContactMode::slip && cs[c].cone()) {
+      out.lambda_t[c] = d.lambda[L.friction_pos[c]];
+      out.lambda_t2[c] = d.lambda[L.friction2_pos[c]];
+    }
   }
   return ModelIssue::none;
 }

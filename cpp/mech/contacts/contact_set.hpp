@@ -4,6 +4,7 @@
 // tolerances that decide them. Immutable once built; shared by the other rooms of contacts/.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -22,20 +23,30 @@ std::string num(double v);
 struct ContactDef {
   int normal = -1;    ///< constraint index of the unilateral constraint
   int friction = -1;  ///< constraint index of its active friction constraint, or -1
+  /// The second friction row of a 2-D Coulomb cone (a contact that slides in a plane), or -1:
+  /// rows friction and friction2 are the sliding velocity's components along two orthonormal
+  /// tangent directions, and the friction force (λ_t1, λ_t2) obeys |λ_t| <= μ λ_n.
+  int friction2 = -1;
   /// Constraint indices of its rough rows (ContactInfo::rough): imposed while it is closed.
   std::vector<int> rough;
   int sign = 1;       ///< gap = sign Φ, normal force = sign λ
   double e = 0.0, mu_s = 0.0, mu_k = 0.0;
   std::string name;
+  bool cone() const { return friction2 >= 0; }
 };
 
 /// The contacts' modes for one segment; sigma is the sliding direction (±1) of slipping ones.
 struct Config {
   std::vector<ContactMode> modes;
   std::vector<int> sigma;
+  /// Per contact with a 2-D cone that slips (or empty): the unit sliding direction (v_t1, v_t2)
+  /// when the segment began. The friction force follows the sliding velocity's direction
+  /// within the segment; this reference only defines its event, ref·v_t through 0.
+  std::vector<Eigen::Vector2d> dir;
   /// Per contact (or empty): its friction row sticks but depends on the other imposed rows
   /// (a block resting on two corners with friction has four rows on three coordinates), so it
   /// is implied, not imposed; its friction force is then carried by the others (reported 0).
+  /// Bit 0: the (first) friction row, bit 1: a 2-D cone's second row.
   std::vector<char> implied;
 };
 
@@ -49,6 +60,7 @@ struct Layout {
   int s_A = 0;
   std::vector<int> normal_pos;    ///< per contact: row of its normal in set, or -1
   std::vector<int> friction_pos;  ///< per contact: row of its friction constraint, or -1
+  std::vector<int> friction2_pos; ///< per contact: row of a 2-D cone's second friction row, or -1
 };
 
 /// Kinematics of one constraint row at a state.
@@ -92,6 +104,10 @@ class ContactSet {
   double gap(int c, double t, const Eigen::VectorXd& q) const;
   double vn(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
   double vt(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
+  /// Both sliding velocity components of a contact (the second 0 without a 2-D cone).
+  Eigen::Vector2d vt2(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
+  /// The sliding speed: |v_t| (1-D), or the 2-D sliding velocity's length.
+  double speed(int c, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
 
   // ---- tolerances of one contact (issue 19) ---------------------------------------------------
   //
@@ -134,6 +150,9 @@ class ContactSet {
 struct Solved {
   Eigen::VectorXd qdd, R, lambda;     ///< lambda: the s_A imposed multipliers
   std::vector<double> lambda_n, lambda_t;  ///< per contact (0 when open / no friction)
+  std::vector<double> lambda_t2;           ///< per contact: a 2-D cone's second component
+  /// The friction force's magnitude |λ_t| (1-D) or |(λ_t1, λ_t2)| (2-D cone).
+  double friction(int c) const { return std::hypot(lambda_t[c], lambda_t2[c]); }
 };
 
 /// Evaluates `d` at (t, q, qd) for configuration cfg (layout L) and solves for its reactions:

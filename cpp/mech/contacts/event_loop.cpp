@@ -68,6 +68,7 @@ Refusal initial_modes(const ContactSet& cs, ModeLogic& logic, const SimulationOp
   const Eigen::VectorXd q0 = q, qd0 = qd;
   cfg.modes.assign(cs.nc(), ContactMode::flight);
   cfg.sigma.assign(cs.nc(), 0);
+  cfg.dir.assign(cs.nc(), Eigen::Vector2d::Zero());
   // Bilateral constraints first (the contacts are decided on a consistent state).
   std::vector<int> bil;
   for (int i : cs.active())
@@ -323,7 +324,8 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
     bool surfaced = false;  // a flight came out of the surface: not a grazing landing
     for (std::size_t i = 0; !late && i < rr.roots.size() && i < run.event_functions().size(); ++i)
       surfaced = surfaced || (rr.roots[i] != 0 && run.event_functions()[i].kind == EventFn::surfaced);
-    const bool nothing_changed = !surfaced && evs.empty() && next.modes == cfg.modes && next.sigma == cfg.sigma;
+    const bool nothing_changed = !surfaced && evs.empty() && next.modes == cfg.modes && next.sigma == cfg.sigma &&
+                                 next.dir == cfg.dir;
     cfg = next;
     run.configure(cfg, t, q, qd, nothing_changed);
     if (t >= options.t_end) {

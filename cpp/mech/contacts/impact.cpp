@@ -170,6 +170,7 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
       for (const Cand& k : p.cands) {
         rows.push_back(k.kn);
         if (with_t && k.frictional) rows.push_back(k.kt);
+        if (with_t && k.frictional && k.kt2 >= 0) rows.push_back(k.kt2);
       }
       const int m = static_cast<int>(rows.size());
       Eigen::MatrixXd Wr(m, m);
@@ -184,7 +185,8 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
       bool in_cone = true;
       for (const Cand& k : p.cands)
         if (with_t && k.frictional)
-          in_cone = in_cone && std::abs(Lam[k.kt]) <= cs_[k.c].mu_k * std::abs(Lam[k.kn]) * (1 + 1e-9);
+          in_cone = in_cone && std::hypot(Lam[k.kt], k.kt2 >= 0 ? Lam[k.kt2] : 0.0) <=
+                                   cs_[k.c].mu_k * std::abs(Lam[k.kn]) * (1 + 1e-9);
       if (in_cone) break;
     }
     v_after = velocities_after(Lam);
@@ -200,10 +202,17 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
   const Eigen::VectorXd dqd = P * (J.transpose() * Lam);
   bool rough_booked = dT_rough == 0.0;
   for (const Cand& k : p.cands) {
-    const double ln = Lam[k.kn], lt = k.kt >= 0 ? Lam[k.kt] : 0.0;
+    const double ln = Lam[k.kn];
     const double vb = v_before[k.kn], va = v_after[k.kn];
-    const double vtb = k.kt >= 0 ? v_before[k.kt] : 0.0, vta = k.kt >= 0 ? v_after[k.kt] : 0.0;
+    double lt = k.kt >= 0 ? Lam[k.kt] : 0.0;
+    double vtb = k.kt >= 0 ? v_before[k.kt] : 0.0, vta = k.kt >= 0 ? v_after[k.kt] : 0.0;
     double lost = -0.5 * (ln * (va + vb) + lt * (vta + vtb));
+    if (k.kt2 >= 0) {  // a 2-D cone: its share from both rows; reported as magnitudes
+      lost -= 0.5 * Lam[k.kt2] * (v_after[k.kt2] + v_before[k.kt2]);
+      lt = std::hypot(lt, Lam[k.kt2]);
+      vtb = std::hypot(vtb, v_before[k.kt2]);
+      vta = std::hypot(vta, v_after[k.kt2]);
+    }
     if (!rough_booked && !cs_[k.c].rough.empty()) {  // the rough impulse's loss, to the first rough contact
       lost -= dT_rough;
       rough_booked = true;

@@ -21,7 +21,10 @@ void rows_of(const ContactSet& cs, Problem& p, double t, const Eigen::VectorXd& 
   int nj = 0;
   for (Cand& k : p.cands) {
     k.kn = nj++;
-    if (cs[k.c].friction >= 0 && (k.frictional || k.sigma != 0)) k.kt = nj++;
+    if (cs[k.c].friction >= 0 && (k.frictional || k.sigma != 0)) {
+      k.kt = nj++;
+      if (cs[k.c].cone()) k.kt2 = nj++;
+    }
   }
   J.resize(nj, cs.n());
   j0.resize(nj);
@@ -36,6 +39,12 @@ void rows_of(const ContactSet& cs, Problem& p, double t, const Eigen::VectorXd& 
       J.row(k.kt) = rt.g;
       j0[k.kt] = rt.g0;
       jgamma[k.kt] = rt.gamma;
+    }
+    if (k.kt2 >= 0) {
+      const Row rt = cs.row(cs[k.c].friction2, t, q, qd);
+      J.row(k.kt2) = rt.g;
+      j0[k.kt2] = rt.g0;
+      jgamma[k.kt2] = rt.gamma;
     }
   }
 }
@@ -85,7 +94,15 @@ void assemble(Problem& p) {
   p.E = Eigen::MatrixXd::Zero(nj, nz);
   for (const Cand& k : p.cands) {
     p.E(k.kn, k.zn) = 1.0;
-    if (k.frictional) {
+    if (k.kt2 >= 0) {  // a 2-D cone: (Λn, Λt1, Λt2, ζ), or Λn sliding along dir
+      if (k.frictional) {
+        p.E(k.kt, k.zn + 1) = 1.0;
+        p.E(k.kt2, k.zn + 2) = 1.0;
+      } else {
+        p.E(k.kt, k.zn) = -k.mu * k.dir[0];
+        p.E(k.kt2, k.zn) = -k.mu * k.dir[1];
+      }
+    } else if (k.frictional) {
       p.E(k.kt, k.zn + 1) = 1.0;
       p.E(k.kt, k.zn + 2) = -1.0;
     } else if (k.sigma != 0) {
@@ -98,7 +115,7 @@ void assemble(Problem& p) {
   for (const Cand& k : p.cands) {
     p.A.row(k.zn) = WE.row(k.kn);
     p.b[k.zn] = (p.impulse ? 1.0 + k.e : 1.0) * p.f[k.kn];
-    if (!k.frictional) continue;
+    if (!k.frictional || k.kt2 >= 0) continue;  // a cone's other rows: not an LCP's
     p.A.row(k.zn + 1) = WE.row(k.kt);
     p.A(k.zn + 1, k.zn + 3) += 1.0;
     p.b[k.zn + 1] = p.f[k.kt];
@@ -250,9 +267,239 @@ void polish(const Problem& p, Eigen::VectorXd& z) {
 
 }  // namespace
 
+// ---- problems with a 2-D Coulomb cone --------------------------------------------------------
+//
+// A contact that may slide in a plane has the local law (u = W Λ + b its relative values: the
+// normal value and the tangential velocity after the impulse, or the accelerations):
+//   open:   Λ = 0, u_n >= 0;
+//   stick:  u_n = 0, u_t = 0, |Λ_t| <= μ Λ_n;
+//   slide:  u_n = 0, Λ_t = −μ Λ_n d, u_t = α d with |d| = 1 and α > 0
+// (the friction force opposes the sliding that results: the maximal dissipation of Coulomb's
+// cone). With the cone circular this is not an LCP. Each contact's law is solved exactly with the
+// others' forces fixed, contact after contact, until no force changes (Moreau's nonsmooth
+// Gauss-Seidel); one contact alone is solved in one pass.
+
+namespace {
+
+struct Local {
+  std::vector<int> rows;  // kn, then kt, kt2 of the candidate
+  Eigen::MatrixXd W;      // W restricted to them
+  Eigen::VectorXd u0;     // their values with this contact's own forces removed
+};
+
+/// The slide of a 2-D cone: the direction d (angle θ) with u_t(θ) = α d, α >= 0, where
+/// Λ_n(θ) = −u0_n / (W_nn − μ W_nt·d) and u_t(θ) = u0_t + (W_tn − μ W_tt d) Λ_n. The function
+/// F(θ) = d × u_t(θ) is scanned on 720 angles and its sign changes with d·u_t > 0 refined by
+/// bisection; of several, the one nearest `guess` is taken. Returns false if there is none.
+bool slide_2d(const Local& l, double mu, const Eigen::Vector2d& guess, Eigen::Vector3d& lam,
+              double& zeta) {
+  const Eigen::Matrix3d W = l.W;
+  const Eigen::Vector3d u0 = l.u0;
+  struct Eval {
+    bool ok = false;
+    double F = 0.0, G = 0.0, ln = 0.0;
+    Eigen::Vector2d d, ut;
+  };
+  auto eval = [&](double th) {
+    Eval e;
+    e.d = Eigen::Vector2d(std::cos(th), std::sin(th));
+    const double a = W(0, 0) - mu * (W(0, 1) * e.d[0] + W(0, 2) * e.d[1]);
+    if (!(a > 0.0)) return e;
+    e.ln = -u0[0] / a;
+    if (!(e.ln >= 0.0)) return e;
+    const Eigen::Vector2d wtn(W(1, 0), W(2, 0));
+    e.ut = u0.tail<2>() + (wtn - mu * W.block<2, 2>(1, 1) * e.d) * e.ln;
+    e.F = e.d[0] * e.ut[1] - e.d[1] * e.ut[0];
+    e.G = e.d.dot(e.ut);
+    e.ok = true;
+    return e;
+  };
+  const int n = 720;
+  const double two_pi = 8.0 * std::atan(1.0), step = two_pi / n;
+  double best = -1.0, best_th = 0.0;
+  Eval prev = eval(0.0);
+  for (int i = 1; i <= n; ++i) {
+    const double th = i * step;
+    const Eval cur = eval(th);
+    if (prev.ok && cur.ok && (prev.F == 0.0 || (prev.F < 0.0) != (cur.F < 0.0))) {
+      double lo = th - step, hi = th;
+      const bool lo_neg = prev.F < 0.0;
+      for (int it = 0; it < 100 && hi - lo > 1e-16 * two_pi; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        const Eval m = eval(mid);
+        if (!m.ok) break;
+        ((m.F < 0.0) == lo_neg ? lo : hi) = mid;
+      }
+      const double root = 0.5 * (lo + hi);
+      const Eval r = eval(root);
+      if (r.ok && r.G >= -1e-12 * (1.0 + r.ut.norm())) {
+        const double closeness = guess.norm() > 0.0 ? r.d.dot(guess) / guess.norm() : 1.0;
+        if (best < -0.5 || closeness > best) {
+          best = closeness;
+          best_th = root;
+        }
+      }
+    }
+    prev = cur;
+  }
+  if (best < -0.5) return false;
+  const Eval r = eval(best_th);
+  lam[0] = r.ln;
+  lam[1] = -mu * r.ln * r.d[0];
+  lam[2] = -mu * r.ln * r.d[1];
+  zeta = std::max(r.G, 0.0);
+  return true;
+}
+
+/// The exact local solution of one candidate (its forces Λ_r and, for a frictional one, ζ)
+/// given the values u0 the others leave. Returns false when it has none.
+bool solve_local(const Cand& k, const Local& l, Eigen::VectorXd& lam, double& zeta) {
+  const int m = static_cast<int>(l.rows.size());
+  lam = Eigen::VectorXd::Zero(m);
+  zeta = 0.0;
+  const double un = l.u0[0];
+  const double tol = 1e-13 * (1.0 + l.u0.cwiseAbs().maxCoeff());
+  if (un >= 0.0) {  // open
+    if (k.frictional && m > 1) zeta = l.u0.tail(m - 1).norm();
+    return true;
+  }
+  if (m == 1) {
+    if (!(l.W(0, 0) > 0.0)) return false;
+    lam[0] = -un / l.W(0, 0);
+    return true;
+  }
+  if (!k.frictional) {  // sliding in a known direction: Λ_t = −μ Λ_n d
+    Eigen::VectorXd d(m - 1);
+    if (m == 2) d[0] = k.sigma;
+    else d = k.dir;
+    const double a = l.W(0, 0) - k.mu * l.W.row(0).tail(m - 1).dot(d);
+    if (!(a > 0.0)) return false;
+    lam[0] = -un / a;
+    lam.tail(m - 1) = -k.mu * lam[0] * d;
+    return true;
+  }
+  // Stick: u = 0.
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(l.W);
+  if (lu.isInvertible()) {
+    const Eigen::VectorXd st = lu.solve(-l.u0);
+    if (st[0] >= 0.0 && st.tail(m - 1).norm() <= k.mu * st[0] + tol) {
+      lam = st;
+      return true;
+    }
+  }
+  if (m == 2) {  // a 1-D cone: slide either way
+    for (int sigma : {+1, -1}) {
+      const double a = l.W(0, 0) - sigma * k.mu * l.W(0, 1);
+      if (!(a > 0.0)) continue;
+      const double ln = -un / a;
+      const double vt = l.u0[1] + (l.W(1, 0) - sigma * k.mu * l.W(1, 1)) * ln;
+      if (sigma * vt >= -tol) {
+        lam[0] = ln;
+        lam[1] = -sigma * k.mu * ln;
+        zeta = std::max(sigma * vt, 0.0);
+        return true;
+      }
+    }
+    return false;
+  }
+  // A 2-D cone slides against the force that would have held it.
+  Eigen::Vector2d guess = Eigen::Vector2d::Zero();
+  if (lu.isInvertible()) guess = -lu.solve(-l.u0).tail<2>();
+  if (!(guess.norm() > 0.0)) guess = l.u0.tail<2>();
+  Eigen::Vector3d l3;
+  if (!slide_2d(l, k.mu, guess, l3, zeta)) return false;
+  lam = l3;
+  return true;
+}
+
+/// Moreau's nonsmooth Gauss-Seidel over the candidates: z in the layout of assemble().
+bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why) {
+  const int nj = static_cast<int>(p.W.rows());
+  Eigen::VectorXd b(nj);
+  for (const Cand& k : p.cands) {
+    b[k.kn] = (p.impulse ? 1.0 + k.e : 1.0) * p.f[k.kn];
+    if (k.kt >= 0) b[k.kt] = p.f[k.kt];
+    if (k.kt2 >= 0) b[k.kt2] = p.f[k.kt2];
+  }
+  std::vector<Local> loc(p.cands.size());
+  for (std::size_t i = 0; i < p.cands.size(); ++i) {
+    const Cand& k = p.cands[i];
+    Local& l = loc[i];
+    l.rows = {k.kn};
+    if (k.kt >= 0) l.rows.push_back(k.kt);
+    if (k.kt2 >= 0) l.rows.push_back(k.kt2);
+    const int m = static_cast<int>(l.rows.size());
+    l.W.resize(m, m);
+    for (int a = 0; a < m; ++a)
+      for (int c = 0; c < m; ++c) l.W(a, c) = p.W(l.rows[a], l.rows[c]);
+  }
+  Eigen::VectorXd Lam = Eigen::VectorXd::Zero(nj);
+  std::vector<double> zeta(p.cands.size(), 0.0);
+  const int max_sweeps = 2000;
+  bool converged = false;
+  for (int sweep = 0; sweep < max_sweeps && !converged; ++sweep) {
+    double change = 0.0, size = 0.0;
+    for (std::size_t i = 0; i < p.cands.size(); ++i) {
+      Local& l = loc[i];
+      const int m = static_cast<int>(l.rows.size());
+      l.u0.resize(m);
+      for (int a = 0; a < m; ++a) {
+        double v = b[l.rows[a]] + p.W.row(l.rows[a]).dot(Lam);
+        for (int c = 0; c < m; ++c) v -= l.W(a, c) * Lam[l.rows[c]];
+        l.u0[a] = v;
+      }
+      Eigen::VectorXd lam;
+      if (!solve_local(p.cands[i], l, lam, zeta[i])) {
+        why = "no local solution of Coulomb's law at one contact (the friction force would cancel "
+              "the normal one: Painleve's paradox)";
+        return false;
+      }
+      for (int a = 0; a < m; ++a) {
+        change = std::max(change, std::abs(lam[a] - Lam[l.rows[a]]));
+        size = std::max(size, std::abs(lam[a]));
+        Lam[l.rows[a]] = lam[a];
+      }
+    }
+    converged = change <= 1e-14 * size || (p.cands.size() == 1 && sweep == 0) || size == 0.0;
+  }
+  if (!converged) {
+    why = "the contact forces with 2-D friction cones did not converge in 2000 Gauss-Seidel sweeps "
+          "(contacts that pose dependent conditions?)";
+    return false;
+  }
+  int nz = 0;
+  for (const Cand& k : p.cands) nz = std::max(nz, k.zn + (k.frictional ? 4 : 1));
+  z = Eigen::VectorXd::Zero(nz);
+  for (std::size_t i = 0; i < p.cands.size(); ++i) {
+    const Cand& k = p.cands[i];
+    z[k.zn] = Lam[k.kn];
+    if (!k.frictional) continue;
+    if (k.kt2 >= 0) {
+      z[k.zn + 1] = Lam[k.kt];
+      z[k.zn + 2] = Lam[k.kt2];
+    } else {
+      z[k.zn + 1] = std::max(Lam[k.kt], 0.0);
+      z[k.zn + 2] = std::max(-Lam[k.kt], 0.0);
+    }
+    z[k.zn + 3] = zeta[i];
+  }
+  return true;
+}
+
+}  // namespace
+
 bool solve_problem(const ContactSet& cs, Problem& p, const LcpSettings& settings, double t,
                    Eigen::VectorXd& z, LcpCounters& counters, std::string& message) {
   assemble(p);
+  bool cone = false;
+  for (const Cand& k : p.cands) cone = cone || k.kt2 >= 0;
+  if (cone) {
+    std::string why;
+    if (solve_cones(p, z, why)) return true;
+    message = std::string(p.impulse ? "the impact" : "the contact modes") + " at t = " + num(t) +
+              " (contacts " + names(cs, p) + "): " + why;
+    return false;
+  }
   const bool single = p.cands.size() == 1 && settings.closed_form_single;
   if (single && solve_single(p, z)) return true;
   // The LCP is linear in b: it is solved for b / max|b| (solutions of order one, so the

@@ -18,6 +18,11 @@ namespace pcsim::mech::contacts {
 /// One contact in a complementarity problem. frictional: the planar Coulomb cone with the
 /// variables (Λn, β+, β−, ζ), Λt = β+ − β− (Stewart-Trinkle); sliding (acceleration level,
 /// |v_t| > 0): the friction force −μ σ Λn along the row, variable Λn only; otherwise Λn only.
+///
+/// A contact with a 2-D cone (ContactDef::cone) has a second tangent row kt2. frictional: the
+/// variables (Λn, Λt1, Λt2, ζ), ζ the sliding magnitude after (|v_t| or |a_t|); sliding: Λn
+/// only, the friction force −μ Λn dir. Problems with a 2-D cone are not LCPs: they are solved
+/// contact by contact (solve_problem).
 struct Cand {
   int c = 0;
   bool frictional = false;
@@ -25,6 +30,8 @@ struct Cand {
   double e = 0.0;  ///< restitution (impulse level)
   double mu = 0.0;
   int kn = -1, kt = -1;  ///< rows in J
+  int kt2 = -1;          ///< a 2-D cone's second tangent row in J, or -1
+  Eigen::Vector2d dir = Eigen::Vector2d::Zero();  ///< a sliding 2-D contact's unit direction
   int zn = -1;           ///< first variable
 };
 
@@ -64,7 +71,9 @@ ModelIssue contact_inertia(Dynamics& d, const ContactSet& cs, double t, const Ei
                            Eigen::VectorXd* dv0 = nullptr);
 
 /// Solves the problem: closed form for one candidate (settings permitting), else the LCP
-/// solver. Returns false with `message` set when no solution is found.
+/// solver; a problem with a 2-D cone by the nonsmooth block Gauss-Seidel method (each contact's
+/// exact local solution in turn, the others' forces fixed, until they no longer change). Returns
+/// false with `message` set when no solution is found.
 bool solve_problem(const ContactSet& cs, Problem& p, const LcpSettings& settings, double t,
                    Eigen::VectorXd& z, LcpCounters& counters, std::string& message);
 

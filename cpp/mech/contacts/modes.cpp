@@ -35,18 +35,20 @@ bool ModeLogic::decide(double t, const Eigen::VectorXd& q, const Eigen::VectorXd
                        bool force_lcp) {
   cfg.modes.assign(cs_.nc(), ContactMode::flight);
   cfg.sigma.assign(cs_.nc(), 0);
+  cfg.dir.assign(cs_.nc(), Eigen::Vector2d::Zero());
   Problem p;
   for (int c = 0; c < cs_.nc(); ++c) {
     if (!(cs_.gap(c, t, q) <= cs_.gap_tol(c, t, q)) || !(cs_.vn(c, t, q, qd) <= cs_.vn_tol(c, t, q, qd))) continue;
     Cand k;
     k.c = c;
     if (cs_[c].friction >= 0) {
-      const double v = cs_.vt(c, t, q, qd);
-      if (std::abs(v) <= cs_.vt_tol(c, t, q, qd)) {
+      const Eigen::Vector2d v = cs_.vt2(c, t, q, qd);
+      if (v.norm() <= cs_.vt_tol(c, t, q, qd)) {
         k.frictional = true;
         k.mu = cs_[c].mu_s;
       } else {
-        k.sigma = v > 0 ? 1 : -1;
+        k.sigma = v[0] > 0 || cs_[c].cone() ? 1 : -1;
+        if (cs_[c].cone()) k.dir = v / v.norm();  // a 2-D cone slides along v
         k.mu = cs_[c].mu_k;
       }
     }
@@ -98,6 +100,10 @@ bool ModeLogic::decide(double t, const Eigen::VectorXd& q, const Eigen::VectorXd
         const double zeta = z[k.zn + 3];
         if (zeta <= tol) {
           cfg.modes[k.c] = ContactMode::stick;
+        } else if (k.kt2 >= 0) {  // a 2-D cone starts to slide along its tangential acceleration
+          cfg.modes[k.c] = ContactMode::slip;
+          cfg.sigma[k.c] = 1;
+          cfg.dir[k.c] = Eigen::Vector2d(acc[k.kt], acc[k.kt2]).normalized();
         } else {
           cfg.modes[k.c] = ContactMode::slip;
           cfg.sigma[k.c] = acc[k.kt] > 0 ? 1 : -1;
@@ -105,6 +111,7 @@ bool ModeLogic::decide(double t, const Eigen::VectorXd& q, const Eigen::VectorXd
       } else {
         cfg.modes[k.c] = ContactMode::slip;
         cfg.sigma[k.c] = k.sigma;
+        cfg.dir[k.c] = k.dir;
       }
     }
     return true;
@@ -144,7 +151,8 @@ bool ModeLogic::mark_implied(double t, const Eigen::VectorXd& q, const Eigen::Ve
                  " (redundant unilateral contacts are not supported)";
       return false;
     }
-    cfg.implied[cs_.contact_of_friction(order[r])] = 1;
+    const int c = cs_.contact_of_friction(order[r]);
+    cfg.implied[c] |= order[r] == cs_[c].friction2 ? 2 : 1;
   }
   return true;
 }
@@ -167,10 +175,13 @@ int ModeLogic::check(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& 
       cfg.sigma[c] = 0;
       return 1;
     }
-    if (cfg.modes[c] == ContactMode::stick &&
-        !(std::abs(s.lambda_t[c]) <= cs_[c].mu_s * s.lambda_n[c])) {
+    if (cfg.modes[c] == ContactMode::stick && !(s.friction(c) <= cs_[c].mu_s * s.lambda_n[c])) {
       cfg.modes[c] = ContactMode::slip;
-      cfg.sigma[c] = s.lambda_t[c] > 0 ? -1 : 1;  // it slides against the force that held it
+      cfg.sigma[c] = s.lambda_t[c] > 0 && !cs_[c].cone() ? -1 : 1;  // it slides against the force that held it
+      if (cs_[c].cone()) {
+        if (cfg.dir.size() != static_cast<std::size_t>(cs_.nc())) cfg.dir.assign(cs_.nc(), Eigen::Vector2d::Zero());
+        cfg.dir[c] = -Eigen::Vector2d(s.lambda_t[c], s.lambda_t2[c]).normalized();
+      }
       return 1;
     }
   }
@@ -186,7 +197,7 @@ bool ModeLogic::transition(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd, co
   std::vector<double> vn_b(cs_.nc()), vt_b(cs_.nc());
   for (int c = 0; c < nc; ++c) {
     vn_b[c] = cs_.vn(c, t, q, qd);
-    vt_b[c] = cs_.vt(c, t, q, qd);
+    vt_b[c] = cs_[c].cone() ? cs_.speed(c, t, q, qd) : cs_.vt(c, t, q, qd);
   }
   if (!impact_.resolve(t, q, qd, before, events, hit, shares_, message_)) return false;
   bool force_lcp = false;
@@ -273,13 +284,13 @@ bool ModeLogic::transition(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd, co
     ev.vn_before = vn_b[c];
     ev.vt_before = vt_b[c];
     ev.vn_after = cs_.vn(c, t, q, qd);
-    ev.vt_after = cs_.vt(c, t, q, qd);
+    ev.vt_after = cs_[c].cone() ? cs_.speed(c, t, q, qd) : cs_.vt(c, t, q, qd);
     if (shares_.impulsed[c]) {  // switched by an impact elsewhere: the impulse it received
       ev.normal = shares_.impulse_n[c];
       ev.tangential = shares_.impulse_t[c];
     } else if (reactions_before && !reactions_before->lambda_n.empty()) {
       ev.normal = reactions_before->lambda_n[c];
-      ev.tangential = reactions_before->lambda_t[c];
+      ev.tangential = cs_[c].cone() ? reactions_before->friction(c) : reactions_before->lambda_t[c];
     }
     if (is_closed(mb) && !is_closed(ma)) {
       ev.kind = ContactEventKind::lift_off;
@@ -290,6 +301,11 @@ bool ModeLogic::transition(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd, co
     } else if (mb == ContactMode::slip && ma == ContactMode::stick) {
       ev.kind = ContactEventKind::stick;
     } else if (mb == ContactMode::slip && ma == ContactMode::slip && before.sigma[c] != after.sigma[c]) {
+      ev.kind = ContactEventKind::reversal;
+    } else if (mb == ContactMode::slip && ma == ContactMode::slip && cs_[c].cone() &&
+               vt_b[c] <= cs_.vt_tol(c, t, q, qd)) {
+      // A 2-D cone that came to rest and slides on in a new direction (its reference direction
+      // renewed while it still slides is no event).
       ev.kind = ContactEventKind::reversal;
     } else {
       continue;

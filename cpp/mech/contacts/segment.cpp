@@ -42,6 +42,7 @@ void Segment::configure(const Config& cfg, double t, const Eigen::VectorXd& q, c
     eps_gap_[c] = cs_.gap_round(c, t, q);
     if (cs_[c].friction >= 0)
       eps_vel_[c] = cs_.velocity_round(cs_.row(cs_[c].friction, t, q, qd), qd);
+    if (cs_[c].cone()) eps_vel_[c] += cs_.velocity_round(cs_.row(cs_[c].friction2, t, q, qd), qd);
     if (!is_closed(cfg.modes[c]))
       gap_offset_[c] = std::min(cs_.gap(c, t, q), 0.0) - (grazing ? cs_.gap_tol(c, t, q) : 0.0);
   }
@@ -52,7 +53,7 @@ void Segment::configure(const Config& cfg, double t, const Eigen::VectorXd& q, c
   if (closed && solve_reactions(event_dyn_, cs_, layout_, cfg_, t, q, qd, ev_solved_, method_) == ModelIssue::none) {
     double f = 0.0;
     for (int c = 0; c < cs_.nc(); ++c)
-      f = std::max(f, std::abs(ev_solved_.lambda_n[c]) + std::abs(ev_solved_.lambda_t[c]));
+      f = std::max(f, std::abs(ev_solved_.lambda_n[c]) + ev_solved_.friction(c));
     eps_force_ = 1e-12 * f;
   }
 }
@@ -81,8 +82,8 @@ std::vector<EventFn> Segment::make_event_functions() const {
       case ContactMode::contact: ev.push_back({c, EventFn::lift_off}); break;
       case ContactMode::stick:
         ev.push_back({c, EventFn::lift_off});
-        ev.push_back({c, EventFn::cone_plus});
-        ev.push_back({c, EventFn::cone_minus});
+        ev.push_back({c, EventFn::cone_plus});  // a 2-D cone: μ_s λ_n − |λ_t| through 0
+        if (!cs_[c].cone()) ev.push_back({c, EventFn::cone_minus});
         break;
       case ContactMode::slip:
         ev.push_back({c, EventFn::lift_off});
@@ -108,7 +109,11 @@ bool Segment::events(double t, const double* y, double* g) {
       continue;
     }
     if (f.kind == EventFn::sliding) {
-      g[i] = cfg_.sigma[f.c] * cs_.vt(f.c, t, q_e_, qd_e_) + eps_vel_[f.c];
+      // A 2-D cone: the sliding velocity along the segment's reference direction through 0
+      // (it came to rest, or turned by 90°: the direction is then renewed).
+      g[i] = (cs_[f.c].cone() ? cfg_.dir[f.c].dot(cs_.vt2(f.c, t, q_e_, qd_e_))
+                              : cfg_.sigma[f.c] * cs_.vt(f.c, t, q_e_, qd_e_)) +
+             eps_vel_[f.c];
       continue;
     }
     if (!solved) {
@@ -118,6 +123,10 @@ bool Segment::events(double t, const double* y, double* g) {
     }
     const double ln = ev_solved_.lambda_n[f.c], lt = ev_solved_.lambda_t[f.c];
     const double mu = cs_[f.c].mu_s;
+    if (f.kind == EventFn::cone_plus && cs_[f.c].cone()) {
+      g[i] = eps_force_ + mu * ln - ev_solved_.friction(f.c);
+      continue;
+    }
     g[i] = eps_force_ + (f.kind == EventFn::lift_off ? ln : f.kind == EventFn::cone_plus ? mu * ln - lt : mu * ln + lt);
   }
   return true;
@@ -244,7 +253,7 @@ void Segment::account(const StepInfo& step, double a, double b) {
         const double xs[3] = {cm - hw * r, cm, cm + hw * r}, ws[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
         for (int k = 0; k < 3; ++k) {
           dense_at(step, xs[k], sq_, sqd_);
-          const double v = std::abs(cs_.vt(c, xs[k], sq_, sqd_));
+          const double v = cs_.speed(c, xs[k], sq_, sqd_);
           double ln = 0.0;
           if (solve_reactions(sample_dyn_, cs_, layout_, cfg_, xs[k], sq_, sqd_, sample_solved_, method_) ==
               ModelIssue::none)
@@ -383,6 +392,14 @@ StepAction Segment::on_step(StepInfo& step) {
     return StepAction::stop;
   }
   if (late) return StepAction::stop;
+  // A 2-D cone's reference direction follows its sliding velocity from step to step, so its
+  // event (ref·v through 0) means that the contact stopped, not that its direction turned (a
+  // spinning body's contact point turns through every direction while it slides).
+  for (int c = 0; c < cs_.nc(); ++c) {
+    if (cfg_.modes[c] != ContactMode::slip || !cs_[c].cone()) continue;
+    const Eigen::Vector2d v = cs_.vt2(c, step.t, q, qd);
+    if (v.dot(cfg_.dir[c]) > 0.0) cfg_.dir[c] = v.normalized();
+  }
   return modified ? StepAction::state_modified : StepAction::proceed;
 }
 

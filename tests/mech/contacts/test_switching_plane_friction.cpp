@@ -1,0 +1,185 @@
+// Coulomb friction in a plane: a 2-D cone (two friction rows at one contact; docs/switching.md
+// "2-D Coulomb cone") against exact solutions. models/contact/particle_plane.toml is a puck on a
+// plane 250 m up, launched 1000 m from the origin; tests/mech/contacts/models/dumbbell_plane.toml
+// two of them on a rod, 120 m down. Between events the straight-line motions are polynomial in t
+// (constant or linear accelerations), which the integrators reproduce to rounding: tolerances
+// 1e-10 relative. The motion on the incline is not polynomial: its invariant v (1 + cos phi) is
+// held to the integration's accuracy (rtol 1e-10, checked to 1e-8).
+#define BOOST_TEST_MODULE switching_plane_friction
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+
+#include "switching_util.hpp"
+
+using namespace switching_test;
+
+namespace {
+constexpr double kG = 9.81, kM = 0.5, kZ0 = 250.0;
+Eigen::VectorXd v3(double a, double b, double c) { return Eigen::Vector3d(a, b, c); }
+
+std::shared_ptr<const Model> dumbbell(const std::map<std::string, double>& p) {
+  const auto d = modelfile::load_model_file(std::string(PCSIM_SOURCE_DIR) +
+                                            "/tests/mech/contacts/models/dumbbell_plane.toml");
+  return d->instantiate(p, Eigen::VectorXd(), 0.0);
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_puck_on_a_level_plane_slides_on_a_straight_line_and_stops_at_the_closed_form_instant) {
+  const double mu_k = 0.3, vx = 1.2, vy = -1.6, v0 = std::hypot(vx, vy);
+  for (OdeMethod method : {OdeMethod::radau, OdeMethod::explicit_rk}) {
+    auto m = contact_model("particle_plane", {{"mu_s", 0.4}, {"mu_k", mu_k}});
+    SimulationOptions o;
+    o.method = method;
+    o.rtol = o.atol = 1e-10;
+    Trace tr;
+    const auto r = run(*m, v3(1000.0, -500.0, kZ0), v3(vx, vy, 0.0), 1.0, o, {}, &tr);
+    BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+    const double ts = v0 / (mu_k * kG), d = v0 * v0 / (2 * mu_k * kG);
+    BOOST_REQUIRE_EQUAL(r.events.size(), 1u);
+    BOOST_TEST(r.events[0].kind == ContactEventKind::stick);
+    BOOST_TEST(std::abs(r.events[0].t - ts) < 1e-12);
+    BOOST_TEST(std::abs(r.q_end[0] - (1000.0 + d * vx / v0)) < 1e-10 * d);
+    BOOST_TEST(std::abs(r.q_end[1] - (-500.0 + d * vy / v0)) < 1e-10 * d);
+    BOOST_TEST(r.qd_end.norm() < 1e-12);
+    BOOST_TEST(std::abs(r.contacts[0].run.slip_distance - d) < 1e-9 * d);
+    // All the kinetic energy went into friction.
+    BOOST_TEST(std::abs(r.contacts[0].run.energy_friction - 0.5 * kM * v0 * v0) < 1e-9 * kM * v0 * v0);
+    // In slip the friction force is mu_k m g against the velocity: R_x/R_y = v_x/v_y.
+    for (std::size_t i = 0; i < tr.t.size(); ++i) {
+      if (tr.modes[i][0] != ContactMode::slip || tr.t[i] > 0.9 * ts) continue;
+      const double s = tr.qd[i].head<2>().norm();
+      BOOST_TEST(std::abs(tr.R[i][0] + mu_k * kM * kG * tr.qd[i][0] / s) < 1e-9 * kM * kG);
+      BOOST_TEST(std::abs(tr.R[i][1] + mu_k * kM * kG * tr.qd[i][1] / s) < 1e-9 * kM * kG);
+      BOOST_TEST(std::abs(tr.R[i][2] - kM * kG) < 1e-9 * kM * kG);
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(on_a_slope_with_mu_equal_to_tan_alpha_a_puck_launched_across_it_keeps_v_times_one_plus_cos_phi) {
+  const double alpha = 0.4, mu = std::tan(alpha), v0 = 2.0;
+  auto m = contact_model("particle_plane", {{"alpha", alpha}, {"mu_s", mu}, {"mu_k", mu}});
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  Trace tr;
+  const double T = 6.0;
+  const auto r = run(*m, v3(-300.0, 700.0, kZ0), v3(v0, 0.0, 0.0), T, o, {}, &tr);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  // The direction turns from across the slope (phi = 90 deg) towards down it: each time it has
+  // turned 90 deg from its reference the reference is renewed (no event is recorded).
+  BOOST_TEST(r.events.empty());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < tr.t.size(); ++i) {
+    BOOST_TEST(tr.modes[i][0] == ContactMode::slip);
+    const double vx = tr.qd[i][0], vy = tr.qd[i][1], v = std::hypot(vx, vy);
+    worst = std::max(worst, std::abs(v * (1.0 + vy / v) - v0) / v0);
+  }
+  BOOST_TEST_MESSAGE("v (1 + cos phi) = v0 within " << worst << " relative over " << T << " s");
+  BOOST_TEST(worst < 1e-8);
+  // The speed tends to v0 / 2 (4 % from it after 6 s) and the energy balance closes with the
+  // friction work: T0 + V0 = T + V + W_friction.
+  const double v_end = r.qd_end.head<2>().norm();
+  BOOST_TEST(std::abs(v_end - 0.5 * v0) < 0.05 * v0);
+  const double dV = -kM * kG * std::sin(alpha) * (r.q_end[1] - 700.0);
+  const double dT = 0.5 * kM * (r.qd_end.squaredNorm() - v0 * v0);
+  const double W = r.contacts[0].run.energy_friction;
+  BOOST_TEST_MESSAGE("energy balance " << dT + dV + W << " J of friction work " << W << " J");
+  BOOST_TEST(std::abs(dT + dV + W) < 1e-8 * W);
+}
+
+BOOST_AUTO_TEST_CASE(a_growing_force_breaks_static_friction_at_the_closed_form_instant_and_drags_the_puck_along_it) {
+  const double mu_s = 0.4, mu_k = 0.3, k = 2.0, beta = 2.2, T = 2.0;
+  auto m = contact_model("particle_plane", {{"mu_s", mu_s}, {"mu_k", mu_k}, {"k_F", k}, {"beta", beta}});
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  const auto r = run(*m, v3(1000.0, -500.0, kZ0), v3(0.0, 0.0, 0.0), T, o);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  const double t1 = mu_s * kM * kG / k;
+  BOOST_REQUIRE_EQUAL(r.events.size(), 1u);
+  BOOST_TEST(r.events[0].kind == ContactEventKind::slip);
+  BOOST_TEST(std::abs(r.events[0].t - t1) < 1e-10);
+  BOOST_TEST(std::abs(r.events[0].tangential - mu_s * kM * kG) < 1e-8);
+  // Along beta: s'' = k t / m - mu_k g from t1 at rest.
+  const double tau = T - t1;
+  const double v = k / (2 * kM) * (T * T - t1 * t1) - mu_k * kG * tau;
+  const double s = k / (6 * kM) * (T * T * T - t1 * t1 * t1) - k * t1 * t1 / (2 * kM) * tau - 0.5 * mu_k * kG * tau * tau;
+  BOOST_TEST(std::abs(r.q_end[0] - (1000.0 + s * std::cos(beta))) < 1e-10 * s);
+  BOOST_TEST(std::abs(r.q_end[1] - (-500.0 + s * std::sin(beta))) < 1e-10 * s);
+  BOOST_TEST(std::abs(r.qd_end[0] - v * std::cos(beta)) < 1e-10 * v);
+  BOOST_TEST(std::abs(r.qd_end[1] - v * std::sin(beta)) < 1e-10 * v);
+}
+
+// In slip the friction law -mu_k lambda_n v/|v| replaces two ideality rows: the paper's dense
+// [G; D^T; friction] system and the structured solve give the closed form.
+BOOST_AUTO_TEST_CASE(the_2d_friction_law_replaces_two_ideality_rows_in_both_formulations) {
+  const double mu_k = 0.3;
+  auto m = contact_model("particle_plane", {{"mu_s", 0.4}, {"mu_k", mu_k}});
+  const double N = kM * kG;
+  for (Kernel kern : {Kernel::fortran, Kernel::cpp}) {
+    ReactionResult res[2];
+    int i = 0;
+    for (ReactionMethod meth : {ReactionMethod::compatibility, ReactionMethod::compatibility_structured}) {
+      res[i] = switching_reactions(*m, {"contact", "slide_x", "slide_y"}, {ContactMode::slip}, {1}, 0.0,
+                                   v3(1000.0, -500.0, kZ0), v3(0.6, -0.8, 0.0), meth, kern);
+      BOOST_REQUIRE_MESSAGE(res[i].issue == ModelIssue::none, res[i].message);
+      BOOST_TEST(std::abs(res[i].R[0] + 0.6 * mu_k * N) < 1e-12 * N);
+      BOOST_TEST(std::abs(res[i].R[1] - 0.8 * mu_k * N) < 1e-12 * N);
+      BOOST_TEST(std::abs(res[i].R[2] - N) < 1e-12 * N);
+      ++i;
+    }
+    BOOST_TEST((res[0].qdd - res[1].qdd).cwiseAbs().maxCoeff() < 1e-12 * kG);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(a_dumbbell_pushed_across_its_rod_stops_with_both_cones_at_once) {
+  const double mu_k = 0.3, L = 0.4, v0 = 1.5, z0 = -120.0;
+  auto m = dumbbell({{"mu_k", mu_k}});
+  Eigen::VectorXd q(6), qd(6);
+  q << 400 - L, 900, z0, 400 + L, 900, z0;
+  qd << 0, v0, 0, 0, v0, 0;
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  const auto r = run(*m, q, qd, 1.0, o);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  const double ts = v0 / (mu_k * kG), d = v0 * v0 / (2 * mu_k * kG);
+  BOOST_REQUIRE_EQUAL(r.events.size(), 2u);
+  for (const auto& e : r.events) {
+    BOOST_TEST(e.kind == ContactEventKind::stick);
+    BOOST_TEST(std::abs(e.t - ts) < 1e-12);
+  }
+  BOOST_TEST(std::abs(r.q_end[1] - (900 + d)) < 1e-10 * d);
+  BOOST_TEST(std::abs(r.q_end[4] - (900 + d)) < 1e-10 * d);
+  BOOST_TEST(r.qd_end.norm() < 1e-12);
+}
+
+BOOST_AUTO_TEST_CASE(a_spinning_dumbbell_turns_through_the_closed_form_angle_with_its_slip_directions_renewed) {
+  const double mu_k = 0.3, L = 0.4, w0 = 9.0, z0 = -120.0;
+  auto m = dumbbell({{"mu_k", mu_k}, {"L", L}});
+  Eigen::VectorXd q(6), qd(6);
+  q << 400 - L, 900, z0, 400 + L, 900, z0;
+  qd << 0, -w0 * L, 0, 0, w0 * L, 0;
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  Trace tr;
+  const double ts = w0 * L / (mu_k * kG), theta = w0 * w0 * L / (2 * mu_k * kG);
+  const auto r = run(*m, q, qd, ts + 0.5, o, {}, &tr);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  const auto sticks = events_of(r, ContactEventKind::stick);
+  BOOST_REQUIRE_EQUAL(sticks.size(), 2u);
+  // Circular motion is not polynomial in t: the stop is as accurate as the integration
+  // (rtol 1e-10 over 1.2 s), not to rounding.
+  for (const auto& e : sticks) {
+    BOOST_TEST_MESSAGE("stop at " << e.t << " s, closed form " << ts << " s");
+    BOOST_TEST(std::abs(e.t - ts) < 3e-9);
+  }
+  BOOST_TEST(sticks.size() == r.events.size());  // the renewals of the direction are no events
+  // The centre stays, the rod turned through theta (mod 2 pi).
+  BOOST_TEST(std::abs(0.5 * (r.q_end[0] + r.q_end[3]) - 400.0) < 1e-9);
+  BOOST_TEST(std::abs(0.5 * (r.q_end[1] + r.q_end[4]) - 900.0) < 1e-9);
+  const double ang = std::atan2(r.q_end[4] - r.q_end[1], r.q_end[3] - r.q_end[0]);
+  const double two_pi = 8 * std::atan(1.0);
+  const double want = std::remainder(theta, two_pi);
+  BOOST_TEST_MESSAGE("turned " << theta << " rad; end angle " << ang << ", closed form " << want);
+  BOOST_TEST(std::abs(std::remainder(ang - want, two_pi)) < 3e-9);
+  BOOST_TEST(r.qd_end.norm() < 1e-12);
+}
