@@ -164,6 +164,21 @@ SwitchingResult simulate_switching(const Model& model, const Eigen::VectorXd& q0
   std::string why;
   const ContactSet cs(model, check.active, Accuracy{options.atol, options.rtol}, why);
   if (!why.empty()) return refuse(SimulationStatus::invalid_model, ModelIssue::unknown_constraint, why);
+  // The two rows of a 2-D cone must measure two directions of sliding: rows that are parallel
+  // at the initial state (the same sliding velocity written twice, as a model's variants of one
+  // friction row are) would double the friction force.
+  for (int c = 0; c < cs.nc(); ++c) {
+    if (!cs[c].cone()) continue;
+    const contacts::Row a = cs.row(cs[c].friction, options.t0, q0, qd0), b = cs.row(cs[c].friction2, options.t0, q0, qd0);
+    const double na = a.g.norm(), nb = b.g.norm();
+    if (!(na > 0.0 && nb > 0.0) || std::abs(a.g.dot(b.g)) > (1.0 - 1e-8) * na * nb)
+      return refuse(SimulationStatus::invalid_model, ModelIssue::dependent_constraints,
+                    "the friction constraints '" + model.constraints()[cs[c].friction].name + "' and '" +
+                        model.constraints()[cs[c].friction2].name + "' of the unilateral constraint '" +
+                        cs[c].name + "' are parallel at t0: two friction rows at one contact are a 2-D " +
+                        "Coulomb cone, the sliding velocity along two orthonormal tangent directions "
+                        "(variants of one friction row: activate one)");
+  }
   ModeLogic logic(cs, options, switching);
   const int n = model.n();
   for (int c = 0; c < cs.nc(); ++c) {

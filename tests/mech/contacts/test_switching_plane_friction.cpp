@@ -183,3 +183,53 @@ BOOST_AUTO_TEST_CASE(a_spinning_dumbbell_turns_through_the_closed_form_angle_wit
   BOOST_TEST(std::abs(std::remainder(ang - want, two_pi)) < 3e-9);
   BOOST_TEST(r.qd_end.norm() < 1e-12);
 }
+
+// At impulse level the 2-D cone's law is the same: the tangential impulse stops the sliding if it
+// can within mu_k Lambda_n, else it is mu_k Lambda_n against the sliding velocity after (for a
+// particle, against v_t before). Newton's law gives Lambda_n = (1 + e) m sqrt(2 g h).
+BOOST_AUTO_TEST_CASE(a_puck_landing_with_a_sliding_velocity_gets_the_coulomb_bounded_impulse_of_the_2d_cone) {
+  const double mu_k = 0.3, e = 0.5, h = 0.2, vn = std::sqrt(2 * kG * h);
+  for (double vt : {2.0, 0.1}) {  // slides on after the impact / stopped by it
+    const double dir_x = 0.8, dir_y = -0.6;
+    auto m = contact_model("particle_plane", {{"mu_s", 0.4}, {"mu_k", mu_k}, {"e_n", e}});
+    SimulationOptions o;
+    o.rtol = o.atol = 1e-10;
+    const double tl = std::sqrt(2 * h / kG);
+    const auto r = run(*m, v3(1000.0, -500.0, kZ0 + h), v3(vt * dir_x, vt * dir_y, 0.0), tl + 1e-3, o);
+    BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+    const auto imp = events_of(r, ContactEventKind::impact);
+    BOOST_REQUIRE(!imp.empty());
+    const auto& ev = imp[0];
+    const double Ln = (1 + e) * kM * vn;
+    // The gap z - 250 is known to its rounding, 100 eps 250 m = 5.6e-12 m: over vn = 2 m/s, 3e-12 s.
+    BOOST_TEST(std::abs(ev.t - tl) < 1e-11);
+    BOOST_TEST(std::abs(ev.normal - Ln) < 1e-10 * Ln);
+    BOOST_TEST(std::abs(ev.vn_after - e * vn) < 1e-10 * vn);
+    const double vt_after = std::max(vt - mu_k * Ln / kM, 0.0);
+    BOOST_TEST_MESSAGE("v_t " << vt << " -> " << ev.vt_after << " (closed form " << vt_after << ")");
+    BOOST_TEST(std::abs(ev.vt_after - vt_after) < 1e-10 * vt);
+    BOOST_TEST(std::abs(ev.tangential - std::min(mu_k * Ln, kM * vt)) < 1e-10 * Ln);
+    // The sliding velocity keeps its direction (or is gone); the energy lost is the drop of T.
+    const double T_before = 0.5 * kM * (vt * vt + vn * vn), T_after = 0.5 * kM * (vt_after * vt_after + e * e * vn * vn);
+    BOOST_TEST(std::abs(ev.energy_lost - (T_before - T_after)) < 1e-10 * T_before);
+  }
+}
+
+// Two friction rows that are one sliding velocity written twice (a model's variants of one
+// friction row, both activated) are refused before the run, naming both.
+BOOST_AUTO_TEST_CASE(two_parallel_friction_rows_at_one_contact_are_refused) {
+  const auto d = modelfile::load_model_file(std::string(PCSIM_SOURCE_DIR) +
+                                            "/tests/mech/contacts/models/particle_line_twice.toml");
+  auto m = d->instantiate({}, Eigen::Vector2d(3.0, 0.0), 0.0);
+  const auto r = run(*m, Eigen::Vector2d(3.0, 0.0), Eigen::Vector2d(1.0, 0.0), 1.0);
+  BOOST_TEST((r.status == SimulationStatus::invalid_model));
+  BOOST_TEST_MESSAGE(r.message);
+  BOOST_TEST(r.message.find("'slide' and 'slide_again'") != std::string::npos);
+  BOOST_TEST(r.message.find("parallel") != std::string::npos);
+  // One of them activated: the block slides and stops.
+  SimulationOptions o;
+  o.active_constraints = {"contact", "slide"};
+  const auto r1 = run(*m, Eigen::Vector2d(3.0, 0.0), Eigen::Vector2d(1.0, 0.0), 1.0, o);
+  BOOST_REQUIRE_MESSAGE(r1.status == SimulationStatus::success, r1.message);
+  BOOST_TEST(events_of(r1, ContactEventKind::stick).size() == 1u);
+}
