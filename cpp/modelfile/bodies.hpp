@@ -282,8 +282,10 @@ bool has_contact_keys(const Joint& j);
 /// Reads them onto `normal` (unilateral, restitution) and `friction` (mu_static, mu_kinetic,
 /// friction = normal's name), checking them (at the parameters' defaults where they are
 /// numbers). `friction` null: mu_static/mu_kinetic are refused with `no_friction` as the reason.
+/// `friction2` (a contact that slides in a plane: the second of its two Coulomb rows, the
+/// sliding velocity along a tangent orthonormal to the first's) receives the same attributes.
 void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
-                        const std::string& no_friction = "");
+                        const std::string& no_friction = "", Row* friction2 = nullptr);
 /// Fails (naming the first contact key of the joint) with `why` if the joint has any.
 void refuse_contact_keys(Expander& x, const Joint& j, const std::string& why);
 /// A number for an expression of the parameters at their defaults (NaN if it is not one).

@@ -2,8 +2,10 @@
 // (bodies.hpp, docs/bodies.md "Contact"): `unilateral` and `restitution` go on the joint's gap
 // row (a distance, so its multiplier is the normal force in N), `mu_static` and `mu_kinetic` on
 // its sliding row (the contact point's sliding velocity in m/s, so its multiplier is the friction
-// force in N). They become the [[model.constraint]] attributes of docs/model-files.md
-// ("Contact") on the generated rows, and `pcsim expand` prints them there.
+// force in N), or on its two sliding rows where the contact slides in a plane (a 2-D Coulomb
+// cone: the sliding velocity's components along two orthonormal tangents). They become the
+// [[model.constraint]] attributes of docs/model-files.md ("Contact") on the generated rows, and
+// `pcsim expand` prints them there.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -40,7 +42,7 @@ std::string got(const Expr& e, double v) {
 }  // namespace
 
 void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
-                        const std::string& no_friction) {
+                        const std::string& no_friction, Row* friction2) {
   const toml::table& t = *j.table;
   auto value = [&](const Expr& e, const std::string& k) {
     return default_parameter_value(x, e, j.key + "." + k);
@@ -77,9 +79,13 @@ void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
       x.fail(j.key + ".mu_kinetic", "a kinetic friction coefficient in [0, mu_static = " +
                                         format_number(s) + "], " + got(mk, k));
   }
-  friction->mu_static = ms;
-  friction->mu_kinetic = mk;
-  friction->friction = normal.name;
+  // The same coefficients on each friction row of the contact (one row, or the cone's two).
+  for (Row* f : {friction, friction2}) {
+    if (!f) continue;
+    f->mu_static = ms;
+    f->mu_kinetic = mk;
+    f->friction = normal.name;
+  }
 }
 
 }  // namespace pcsim::modelfile::bodies

@@ -308,19 +308,42 @@ class SpatialPair : public JointType {
 
 // A point on a plane (row <joint>_z: d·w1, marker2 above marker1's x-y plane) that can lift off
 // (CONTACT): `unilateral`, `restitution` on that row (a distance: its multiplier is the normal
-// force in N). Friction in the plane would need two friction rows at one contact, and the
-// switching engine's friction is planar (one row per contact, docs/switching.md "Limits").
+// force in N). With `mu_static` (`mu_kinetic`) the contact slides in the plane with Coulomb
+// friction: two velocity-form rows <joint>_slide_x and <joint>_slide_y, the sliding velocity of
+// marker2's origin relative to body1's material point coincident with it, along u1 and v1 (m/s).
+// u1, v1 are orthonormal tangents of the plane, so the rows' multipliers are the friction force's
+// components on body2 in N and the pair bounds it isotropically, |λ_t| <= μ_s λ_z (the 2-D
+// Coulomb cone of docs/switching.md): both rows carry friction = <joint>_z and the same μ.
 class SpatialPointOnPlane : public JointType {
  public:
   std::string name() const override { return "point_on_plane"; }
   std::vector<std::string> extra_keys() const override { return contact_keys(); }
   void rows(Expander& x, Joint& j) const override {
     pair_rows(x, j, {false, false, true, false, false});
-    if (has_contact_keys(j))
-      read_joint_contact(x, j, j.rows.back(), nullptr,
-                         "no friction on a point_on_plane: sliding in a plane needs two friction "
-                         "rows at one contact, and the switching engine's friction is planar (one "
-                         "row per contact); a planar model's point_on_line takes mu_static");
+    if (!has_contact_keys(j)) return;
+    Row sx, sy;
+    sx.name = j.name + "_slide_x";
+    sy.name = j.name + "_slide_y";
+    read_joint_contact(x, j, j.rows.back(), &sx, "", &sy);
+    if (sx.friction.empty()) return;
+    const Frames f = frames(x, j);
+    LinVec3 vrel = x.marker_velocity(*f.b2, *f.m2);
+    if (!f.b1->ground) {
+      const LinVec3 v1 = x.point_velocity(*f.b1, f.P2);
+      for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
+    }
+    const Row gap = j.rows.back();
+    Row* slide[2] = {&sx, &sy};
+    // The force on body2 at marker2 (no moment about it): λ_z w1 + λ_slide_x u1 + λ_slide_y v1,
+    // whose joint-frame components are (λ_slide_x, λ_slide_y, λ_z).
+    Vec3 F = scale(lam(gap), column(f.E1, 2));
+    for (int i = 0; i < 2; ++i) {
+      slide[i]->velocity_form = true;
+      slide[i]->velocity = dot(column(f.E1, i), vrel);
+      j.rows.push_back(*slide[i]);
+      F = add(F, scale(lam(*slide[i]), column(f.E1, i)));
+    }
+    set_reaction(j, f, F, Vec3{});
   }
 };
 
@@ -732,9 +755,13 @@ class SpatialDistance : public JointType {
 // spins freely; its contact force is normal, acting at the contact point).
 // Contact (issue 12, bodies_contact.cpp): `unilateral` and `restitution` on the row n: a disk
 // that lifts off, flies and lands. On a rolling wheel its no-slip rows x, y are then the rough
-// rows of that contact (held while it touches, released in flight: hold_while_closed). Friction
-// (`mu_static`) is refused on any wheel: slip in the plane needs Coulomb's law with two friction
-// rows at one contact (a 2-D cone), and the switching engine carries one per contact.
+// rows of that contact (held while it touches, released in flight: hold_while_closed), or, with
+// `mu_static` (`mu_kinetic`), its two Coulomb friction rows (friction = <joint>_n, the same μ):
+// it rolls while the friction force is inside the cone |λ_t| <= μ_s λ_n and slips beyond.
+// x, y are the sliding velocity's components along two ORTHONORMAL tangents (the plane: u1, v1;
+// the sphere: t1 and ν × t1, sphere_rows), so their multipliers are the friction force's
+// components in N and the cone is isotropic (docs/switching.md). A frictionless disk
+// (`no_slip = false`) refuses `mu_static`.
 class SpatialWheel : public JointType {
  public:
   std::string name() const override { return "wheel"; }
@@ -769,13 +796,11 @@ class SpatialWheel : public JointType {
     Row rn;
     rn.name = pre + "n";
     rn.holonomic = sub(dot(n, f.d), mul(r, sigma));
-    if (has_contact_keys(j))
-      read_joint_contact(x, j, rn, nullptr,
-                         "no friction on a wheel: a spatial contact slips in the plane, so Coulomb's "
-                         "law needs two friction rows at one contact (a 2-D cone), and the switching "
-                         "engine carries one friction row per contact (docs/switching.md); a rolling "
-                         "wheel with unilateral = true rolls without slip while it touches (its "
-                         "no-slip rows are rough rows); a planar model's rolling joint takes mu_static");
+    // The no-slip rows x, y (written below): with mu_static, the contact's Coulomb rows.
+    Row rx, ry;
+    rx.name = pre + "x";
+    ry.name = pre + "y";
+    if (has_contact_keys(j)) read_contact(x, j, rn, no_slip, rx, ry);
     j.rows.push_back(rn);
     Vec3 F = scale(lam(rn), n);
     if (!no_slip) {
@@ -789,12 +814,14 @@ class SpatialWheel : public JointType {
       const LinVec3 v1 = x.point_velocity(*f.b1, P);
       for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
     }
+    // Along u1 and v1: orthonormal tangents of the plane (marker1's axes), so x, y are the
+    // contact point's sliding velocity components in m/s (an isotropic Coulomb cone).
+    Row* slip[2] = {&rx, &ry};
     for (int i = 0; i < 2; ++i) {
-      Row rt;
-      rt.name = pre + std::string(i == 0 ? "x" : "y");
+      Row& rt = *slip[i];
       rt.velocity_form = true;
       rt.velocity = dot(column(f.E1, i), vrel);
-      hold_while_closed(rn, rt);
+      if (rt.friction.empty()) hold_while_closed(rn, rt);
       j.rows.push_back(rt);
       F = add(F, scale(lam(rt), column(f.E1, i)));
     }
@@ -803,11 +830,20 @@ class SpatialWheel : public JointType {
   }
 
  private:
-  // A rolling wheel that can lift off (`unilateral = true` on its row n): its no-slip rows are
-  // the rough rows of that contact, imposed while it is closed and released in flight (the
-  // perfectly rough limit of Coulomb's law: it never slips; a landing is a rough impact,
-  // docs/switching.md). A wheel that may slip would need Coulomb's law in the plane (two
-  // friction rows at one contact, a 2-D cone), which the switching engine does not carry.
+  // The contact keys (bodies_contact.cpp): `unilateral`, `restitution` on the row n; `mu_static`,
+  // `mu_kinetic` on the no-slip rows x, y, which become the contact's two Coulomb rows. A
+  // frictionless disk (no_slip = false) has no rows to carry friction.
+  static void read_contact(Expander& x, const Joint& j, Row& n, bool no_slip, Row& rx, Row& ry) {
+    read_joint_contact(x, j, n, no_slip ? &rx : nullptr,
+                       "no friction on a wheel with no_slip = false: it is a frictionless disk "
+                       "(its one row " + n.name + " is the contact); drop no_slip = false to get "
+                       "Coulomb friction on its rows " + rx.name + ", " + ry.name,
+                       no_slip ? &ry : nullptr);
+  }
+  // A rolling wheel that can lift off (`unilateral = true` on its row n) without `mu_static`: its
+  // no-slip rows are the rough rows of that contact, imposed while it is closed and released in
+  // flight (the perfectly rough limit of Coulomb's law: it never slips; a landing is a rough
+  // impact, docs/switching.md). With `mu_static` they are its Coulomb rows instead (read_contact).
   static void hold_while_closed(const Row& normal, Row& row) {
     if (!normal.unilateral) return;
     row.friction = normal.name;
@@ -823,6 +859,10 @@ class SpatialWheel : public JointType {
   // no-slip rows x, y (velocity form): the wheel's material point at the contact has no velocity
   // relative to body1's along t1 = a × ρ / r (the rim's tangent, the rolling direction) and
   // t2 = ν × t1. Singular where S lies on the wheel's axis (σ = 0), as the plane's flat coin.
+  // t1, t2 are orthonormal tangents of the sphere at the contact: ρ ⊥ a with |ρ| = r, so
+  // |t1| = 1; t1 is normal to a and to d_p, hence to d + ρ = (1 ∓ r/σ) d_p + (d·a) a, i.e. to ν;
+  // so t2 = ν × t1 is a unit vector normal to both. The rows are the sliding velocity's
+  // components in m/s, and as Coulomb rows (mu_static) their cone is isotropic.
   static void sphere_rows(Expander& x, Joint& j, const Frames& f, const Expr& r, bool no_slip) {
     const Expr R = x.required(*j.table, j.key, "sphere_radius", "the sphere's radius (an expression; the sphere is centred at marker1)");
     bool inside = false;
@@ -857,12 +897,10 @@ class SpatialWheel : public JointType {
     Row rn;
     rn.name = pre + "n";
     rn.holonomic = inside ? sub(R, dist) : sub(dist, R);
-    if (has_contact_keys(j))
-      read_joint_contact(x, j, rn, nullptr,
-                         "no friction on a wheel: a spatial contact slips in the plane, so Coulomb's "
-                         "law needs two friction rows at one contact (a 2-D cone), and the switching "
-                         "engine carries one friction row per contact (docs/switching.md); a rolling "
-                         "wheel with unilateral = true rolls without slip while it touches");
+    Row rx, ry;
+    rx.name = pre + "x";
+    ry.name = pre + "y";
+    if (has_contact_keys(j)) read_contact(x, j, rn, no_slip, rx, ry);
     j.rows.push_back(rn);
     Vec3 F = scale(lam(rn), nu);
     if (no_slip) {
@@ -878,12 +916,12 @@ class SpatialWheel : public JointType {
         for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
       }
       const Vec3* t[2] = {&t1, &t2};
+      Row* slip[2] = {&rx, &ry};
       for (int i = 0; i < 2; ++i) {
-        Row rt;
-        rt.name = pre + std::string(i == 0 ? "x" : "y");
+        Row& rt = *slip[i];
         rt.velocity_form = true;
         rt.velocity = dot(*t[i], vrel);
-        hold_while_closed(rn, rt);
+        if (rt.friction.empty()) hold_while_closed(rn, rt);
         j.rows.push_back(rt);
         F = add(F, scale(lam(rt), *t[i]));
       }

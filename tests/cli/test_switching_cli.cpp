@@ -176,8 +176,10 @@ BOOST_AUTO_TEST_CASE(event_budget_message_counts_in_the_right_number) {
 // from the shell: it lifts off at sin(omega t) = g / (A omega^2) and lands at the closed-form
 // instant (models/contact/coin_bodies.toml; the numbers are the tests' in
 // tests/mech/contacts/test_switching_vibrating_table.cpp), and so does the coin that rolls while
-// it touches (its no-slip rows rough rows). Friction on a wheel, rolling or not, is refused with
-// exit 2, naming the model file and the key, nothing written.
+// it touches (its no-slip rows rough rows). The friction keys that do not apply to a wheel
+// (friction on the frictionless disk, friction without unilateral, mu_kinetic above mu_static)
+// are refused with exit 2, naming the model file and the key, nothing written; a rolling
+// unilateral wheel takes mu_static (its no-slip rows the contact's two Coulomb rows).
 BOOST_AUTO_TEST_CASE(coin_on_a_wheel_joint_hops_and_wheel_contact_keys_that_do_not_apply_exit_2) {
   TempDir dir("switching_cli");
   const fs::path out = dir.path / "coin";
@@ -207,19 +209,28 @@ BOOST_AUTO_TEST_CASE(coin_on_a_wheel_joint_hops_and_wheel_contact_keys_that_do_n
   BOOST_TEST(rolled.find(",impact,bounce_n,flight,contact,") != std::string::npos, rolled);
   const double t_lift = std::stod(rolled.substr(rolled.find('\n') + 1));
   BOOST_TEST(std::abs(t_lift - events[0].second) < 1e-9, rolled);
-  // Friction on either wheel: Coulomb's law in the plane is not carried.
+  // The joint's contact keys, from `no_slip = false` to `restitution = "e_n"`, replaced.
   std::string model = read(fs::path(PCSIM_SOURCE_DIR) / "models/contact/coin_bodies.toml");
-  const std::string ns = "\nno_slip = false";  // the key's line, not the header's mention
-  const auto at = model.find(ns);
-  BOOST_REQUIRE(at != std::string::npos);
-  struct Bad {
-    std::string replacement, key, why;
+  const std::string first = "\nno_slip = false", last = "\nrestitution = \"e_n\"";
+  const auto from = model.find(first), to = model.find(last, from);
+  BOOST_REQUIRE(from != std::string::npos);
+  BOOST_REQUIRE(to != std::string::npos);
+  auto with_keys = [&](const std::string& keys) {
+    std::string text = model;
+    text.replace(from, to + last.size() - from, keys);
+    return text;
   };
-  for (const Bad& b : {Bad{"\nmu_static = 0.3", "model.joint.bounce.mu_static", "two friction rows"},
-                       Bad{ns + "\nmu_static = 0.3", "model.joint.bounce.mu_static", "two friction rows"}}) {
+  struct Bad {
+    std::string keys, key, why;
+  };
+  for (const Bad& b : {Bad{"\nno_slip = false\nunilateral = true\nmu_static = 0.3", "model.joint.bounce.mu_static",
+                           "a frictionless disk (its one row bounce_n is the contact); drop no_slip = false to get "
+                           "Coulomb friction on its rows bounce_x, bounce_y"},
+                       Bad{"\nmu_static = 0.3", "model.joint.bounce.mu_static", "only with unilateral = true"},
+                       Bad{"\nunilateral = true\nmu_static = 0.3\nmu_kinetic = 0.5", "model.joint.bounce.mu_kinetic",
+                           "a kinetic friction coefficient in [0, mu_static = 0.3], got 0.5"}}) {
     BOOST_TEST_CONTEXT(b.key) {
-      std::string text = model;
-      text.replace(at, ns.size(), b.replacement);
+      const std::string text = with_keys(b.keys);
       const fs::path mf = dir.path / "coin_bad.toml", cf = dir.path / "coin_bad_case.toml", o = dir.path / "bad";
       write_file(mf, text);
       write_file(cf, "model = \"coin_bad.toml\"\n[initial]\ncoin_e0 = 1\ncoin_z = 0.1\n[contact]\nswitching = true\n");
@@ -229,5 +240,17 @@ BOOST_AUTO_TEST_CASE(coin_on_a_wheel_joint_hops_and_wheel_contact_keys_that_do_n
       BOOST_TEST(e.out.find(b.why) != std::string::npos, e.out);
       BOOST_TEST(!fs::exists(o));
     }
+  }
+  // The rolling unilateral coin with friction: `pcsim expand` prints its rows bounce_x, bounce_y
+  // as the contact's Coulomb rows.
+  const fs::path mf = dir.path / "coin_mu.toml";
+  write_file(mf, with_keys("\nunilateral = true\nrestitution = \"e_n\"\nmu_static = 0.3\nmu_kinetic = 0.2"));
+  const Result x = pcsim("expand '" + mf.string() + "'");
+  BOOST_TEST(x.status == 0, x.out);
+  for (const char* row : {"bounce_x", "bounce_y"}) {
+    const auto at = x.out.find(std::string("name = \"") + row + "\"");
+    BOOST_TEST_REQUIRE(at != std::string::npos, x.out);
+    const std::string block = x.out.substr(at, x.out.find("\n\n", at) - at);
+    BOOST_TEST(block.find("\nfriction = \"bounce_n\"\nmu_static = \"0.3\"\nmu_kinetic = \"0.2\"") != std::string::npos, block);
   }
 }

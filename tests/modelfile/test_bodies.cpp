@@ -193,6 +193,82 @@ BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_a
   }
 }
 
+// `pcsim expand` of the 2-D Coulomb cone's joints (issue 22): the point_on_plane of
+// models/contact/puck_plane_bodies.toml (rows table_slide_x, table_slide_y) and the rolling wheel
+// of models/contact/coin_friction_bodies.toml (rows bounce_x, bounce_y) print BOTH friction rows
+// with friction = the gap row and the joint's mu_static, mu_kinetic; the expanded text loads,
+// carries the same contact data, and gives bit for bit the same M, h, Q, g, g0, gamma and outputs
+// (with multipliers) at 50 random states. No switching run here: the engine's cone is tested
+// with the engine (tests/mech/contacts).
+BOOST_AUTO_TEST_CASE(expanded_coulomb_cone_joints_print_both_friction_rows_and_read_back_bit_for_bit) {
+  struct Case {
+    std::string file, gap, x, y;
+  };
+  for (const Case& c : {Case{"contact/puck_plane_bodies.toml", "table_z", "table_slide_x", "table_slide_y"},
+                        Case{"contact/coin_friction_bodies.toml", "bounce_n", "bounce_x", "bounce_y"}}) {
+    BOOST_TEST_CONTEXT(c.file) {
+      const std::string text = bodies::energy_form_text(detail::load_model_source(model_path(c.file)));
+      for (const std::string& row : {c.x, c.y}) {
+        const std::string head = "name = \"" + row + "\"\nvelocity = {";
+        const auto at = text.find(head);
+        BOOST_REQUIRE_MESSAGE(at != std::string::npos, "printed: " << row);
+        const auto end = text.find("\n\n", at);
+        const std::string block = text.substr(at, end - at);
+        BOOST_TEST(block.find("\nfriction = \"" + c.gap + "\"\nmu_static = \"mu_s\"\nmu_kinetic = \"mu_k\"") !=
+                       std::string::npos, block);
+        BOOST_TEST(block.find("rough") == std::string::npos, block);
+      }
+      const auto da = load_model_file(model_path(c.file));
+      const auto db = load_model_text(text, "expanded.toml");
+      const auto a = da->instantiate({}), b = db->instantiate({});
+      BOOST_REQUIRE_EQUAL(a->constraints().size(), b->constraints().size());
+      for (std::size_t i = 0; i < a->constraints().size(); ++i) {
+        const mech::ContactInfo &ca = a->constraints()[i].contact, &cb = b->constraints()[i].contact;
+        BOOST_TEST(a->constraints()[i].name == b->constraints()[i].name);
+        BOOST_TEST(static_cast<int>(a->constraints()[i].kind) == static_cast<int>(b->constraints()[i].kind));
+        BOOST_TEST(ca.unilateral == cb.unilateral);
+        BOOST_TEST(ca.restitution == cb.restitution);
+        BOOST_TEST(ca.friction_of == cb.friction_of);
+        BOOST_TEST(ca.rough == cb.rough);
+        BOOST_TEST(ca.mu_static == cb.mu_static);
+        BOOST_TEST(ca.mu_kinetic == cb.mu_kinetic);
+      }
+      const int gap = b->constraint_index(c.gap);
+      for (const std::string& row : {c.x, c.y}) {
+        const mech::ContactInfo& cb = b->constraints()[b->constraint_index(row)].contact;
+        BOOST_TEST((cb.is_coulomb() && cb.friction_of == gap), row);
+      }
+      const std::vector<int> active = all_constraints(*a);
+      std::mt19937 rng(17);
+      for (int k = 0; k < 50; ++k) {
+        Eigen::VectorXd q(a->n()), qd(a->n()), qdd(a->n()), R(a->n());
+        for (int i = 0; i < a->n(); ++i) {
+          q[i] = (k % 2 ? 1000.0 : 0.0) + uniform(rng);
+          qd[i] = uniform(rng);
+          qdd[i] = uniform(rng);
+          R[i] = uniform(rng);
+        }
+        Eigen::VectorXd lambda(static_cast<Eigen::Index>(active.size()));
+        for (auto& l : lambda) l = uniform(rng);
+        const Evaluation ea = evaluate(*a, active, 0.1, q, qd), eb = evaluate(*b, active, 0.1, q, qd);
+        BOOST_CHECK(ea.M == eb.M);
+        BOOST_CHECK(ea.h == eb.h);
+        BOOST_CHECK(ea.Q == eb.Q);
+        BOOST_CHECK(ea.g == eb.g);
+        BOOST_CHECK(ea.g0 == eb.g0);
+        BOOST_CHECK(ea.gamma == eb.gamma);
+        Eigen::VectorXd oa, ob;
+        a->derived_with_multipliers(0.1, q, qd, qdd, R, active, lambda, oa);
+        b->derived_with_multipliers(0.1, q, qd, qdd, R, active, lambda, ob);
+        BOOST_REQUIRE_EQUAL(oa.size(), ob.size());
+        for (Eigen::Index i = 0; i < oa.size(); ++i)
+          BOOST_CHECK(oa[i] == ob[i] || (std::isnan(oa[i]) && std::isnan(ob[i])));
+      }
+      BOOST_CHECK(a->derived_names() == b->derived_names());
+    }
+  }
+}
+
 // The multipliers in outputs: the body model's rod tensions come from lambda (F_rod_x = 2λ|d|),
 // the energy-form file's from R (a projection of the generalized reactions on the rods); over a
 // chaotic run they agree at every output time.

@@ -172,6 +172,13 @@ BOOST_AUTO_TEST_CASE(the_contact_attributes_load_on_the_joints_that_can_lift_off
   BOOST_CHECK_EQUAL(error_of(on_roll("unilateral = true\nmu_static = 0.3\n")), "");
   BOOST_CHECK_EQUAL(error_of(kSpatial + "[model.joint.p]\ntype = \"point_on_plane\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n"
                                         "unilateral = true\nrestitution = 0.5\n"), "");
+  // The 2-D Coulomb cone (docs/bodies.md "Contact on joints"): a point_on_plane's two sliding
+  // rows, a rolling wheel's no-slip rows (on a plane or a sphere) as the contact's friction rows.
+  BOOST_CHECK_EQUAL(error_of(kSpatial + "[model.joint.p]\ntype = \"point_on_plane\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n"
+                                        "unilateral = true\nmu_static = 0.4\nmu_kinetic = 0.3\n"), "");
+  const std::string wheel = kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nradius = 0.3\n";
+  BOOST_CHECK_EQUAL(error_of(wheel + "unilateral = true\nrestitution = 0.5\nmu_static = 0.3\n"), "");
+  BOOST_CHECK_EQUAL(error_of(wheel + "surface = \"sphere\"\nsphere_radius = 2.0\nunilateral = true\nmu_static = 0.3\nmu_kinetic = 0.1\n"), "");
 }
 
 BOOST_AUTO_TEST_CASE(contact_attributes_on_a_joint_that_cannot_lift_off_are_refused) {
@@ -192,17 +199,19 @@ BOOST_AUTO_TEST_CASE(restitution_or_friction_without_a_unilateral_gap_row_is_ref
   // A point on a line in space has two rows and no side: no gap.
   expect_error(kSpatial + "[model.joint.l]\ntype = \"point_on_line\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nunilateral = true\n",
                {"model.joint.l.unilateral", "no side", "point_on_plane"});
-  // Friction on a plane (two tangential rows) and on a spatial wheel: the engine's is planar.
-  expect_error(kSpatial + "[model.joint.p]\ntype = \"point_on_plane\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n"
-                          "unilateral = true\nmu_static = 0.3\n",
-               {"model.joint.p.mu_static", "no friction on a point_on_plane", "one row per contact"});
+  // Friction on a plane (the 2-D cone's two sliding rows) needs a gap that can open, as on a line.
+  const std::string plane = kSpatial + "[model.joint.p]\ntype = \"point_on_plane\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n";
+  expect_error(plane + "mu_static = 0.3\n", {"m.toml", "model.joint.p.mu_static", "only with unilateral = true"});
+  expect_error(plane + "unilateral = true\nmu_kinetic = 0.2\n", {"model.joint.p.mu_kinetic", "only with mu_static"});
   // Issue 22 (WHL): a wheel's contact keys, each refused by name with the reason. A rolling wheel
-  // takes unilateral and restitution (its no-slip rows become rough rows); friction no wheel.
+  // takes unilateral and restitution (its no-slip rows become rough rows), and mu_static (its
+  // no-slip rows become the contact's Coulomb rows); the frictionless disk no friction.
   const std::string wheel = kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\nradius = 0.3\n";
   BOOST_CHECK_EQUAL(error_of(wheel + "unilateral = true\nrestitution = 0.5\n"), "");
   expect_error(wheel + "restitution = 0.5\n", {"m.toml", "model.joint.w.restitution", "only with unilateral = true"});
-  expect_error(wheel + "unilateral = true\nmu_static = 0.3\n",
-               {"m.toml", "model.joint.w.mu_static", "no friction on a wheel", "two friction rows"});
+  expect_error(wheel + "mu_static = 0.3\n", {"m.toml", "model.joint.w.mu_static", "only with unilateral = true"});
+  expect_error(wheel + "surface = \"sphere\"\nsphere_radius = 2.0\nmu_static = 0.3\n",
+               {"m.toml", "model.joint.w.mu_static", "only with unilateral = true"});
   // The surface a wheel rolls on (docs/bodies-spatial.md "Joints").
   expect_error(wheel + "surface = \"cylinder\"\n", {"m.toml", "model.joint.w.surface", "\"plane\"", "\"sphere\"", "got 'cylinder'"});
   expect_error(wheel + "surface = \"sphere\"\n", {"m.toml", "model.joint.w.sphere_radius", "the sphere's radius"});
@@ -210,9 +219,12 @@ BOOST_AUTO_TEST_CASE(restitution_or_friction_without_a_unilateral_gap_row_is_ref
   expect_error(wheel + "inside = true\n", {"m.toml", "model.joint.w.inside", "surface = \"sphere\""});
   expect_error(wheel + "surface = \"sphere\"\nsphere_radius = 2.0\ninside = 1\n", {"m.toml", "model.joint.w.inside"});
   expect_error(wheel + "no_slip = false\nunilateral = true\nmu_static = 0.3\n",
-               {"m.toml", "model.joint.w.mu_static", "no friction on a wheel", "two friction rows", "one friction row per contact"});
+               {"m.toml", "model.joint.w.mu_static", "no_slip = false", "frictionless disk",
+                "drop no_slip = false to get Coulomb friction on its rows w_x, w_y"});
   expect_error(wheel + "no_slip = false\nunilateral = true\nmu_static = 0.3\nmu_kinetic = 0.2\n",
-               {"model.joint.w.mu_static", "no friction on a wheel"});
+               {"model.joint.w.mu_static", "frictionless disk"});
+  expect_error(wheel + "surface = \"sphere\"\nsphere_radius = 2.0\nno_slip = false\nunilateral = true\nmu_static = 0.3\n",
+               {"model.joint.w.mu_static", "frictionless disk"});
   expect_error(wheel + "no_slip = false\nrestitution = 0.5\n", {"model.joint.w.restitution", "only with unilateral = true"});
   expect_error(wheel + "no_slip = false\nunilateral = true\nrestitution = 2\n", {"model.joint.w.restitution", "[0, 1]"});
   expect_error(wheel + "no_slip = \"no\"\n", {"model.joint.w.no_slip"});
@@ -226,6 +238,20 @@ BOOST_AUTO_TEST_CASE(coefficients_outside_their_ranges_are_refused_at_the_defaul
                {"model.joint.c.mu_kinetic", "a kinetic friction coefficient in [0, mu_static = 0.3]", "0.5"});
   expect_error(on_line("unilateral = true\nmu_static = -0.1\n"), {"model.joint.c.mu_static", ">= 0", "-0.1"});
   expect_error(on_line("unilateral = true\nrestitution = 1.5\n"), {"model.joint.c.restitution", "[0, 1]", "1.5"});
+  // The same on the 2-D cone's joints (a point_on_plane, a rolling wheel).
+  const std::string plane = kSpatial + "[model.parameters.mu]\nvalue = 0.3\n[model.joint.p]\ntype = \"point_on_plane\"\n"
+                                       "marker1 = \"floor\"\nbody2 = \"s\"\nunilateral = true\n";
+  expect_error(plane + "mu_static = \"mu\"\nmu_kinetic = 0.5\n",
+               {"m.toml", "model.joint.p.mu_kinetic", "a kinetic friction coefficient in [0, mu_static = 0.3]", "0.5"});
+  expect_error(plane + "mu_static = -0.1\n", {"model.joint.p.mu_static", ">= 0", "-0.1"});
+  const std::string wheel = kSpatial + "[model.joint.w]\ntype = \"wheel\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n"
+                                       "radius = 0.3\nunilateral = true\n";
+  expect_error(wheel + "mu_static = 0.3\nmu_kinetic = 0.4\n",
+               {"m.toml", "model.joint.w.mu_kinetic", "a kinetic friction coefficient in [0, mu_static = 0.3]", "0.4"});
+  // A case's value, checked when the model is instantiated, names the generated row.
+  const auto p = load_model_text(plane + "mu_static = \"mu\"\nmu_kinetic = 0.2\n", "m.toml");
+  const std::string ep = input_error_of([&] { p->instantiate({{"mu", 0.1}}); });
+  BOOST_CHECK_MESSAGE(contains_all(ep, {"m.toml", "model.constraint[p_slide_x].mu_kinetic", "mu_static = 0.1"}), ep);
   // A case's value is checked when the model is instantiated, naming the generated row.
   const auto d = load_model_text(on_line("unilateral = true\nmu_static = \"mu\"\nmu_kinetic = 0.2\n"), "m.toml");
   const std::string e = input_error_of([&] { d->instantiate({{"mu", 0.1}}); });

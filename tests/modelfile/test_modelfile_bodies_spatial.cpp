@@ -15,6 +15,9 @@
 // - a wheel rolling on a sphere (inside a bowl, or outside) in a vertical plane follows the
 //   reduced pendulum equation with its contact force; out of the plane, its contact point is the
 //   rim's farthest point found by search, it does not slip there, and the energy is constant;
+// - the 2-D Coulomb cone's rows (a point_on_plane with mu_static, on ground and on a moving
+//   body; a rolling wheel with mu_static, on a plane and on a sphere) are the contact's two
+//   Coulomb rows and equal the closed-form sliding velocity along orthonormal tangents;
 // - inertia tensors that are not symmetric or not positive definite are rejected naming the key;
 // - the Whipple bicycle as bodies (models/whipple_bodies.toml) conserves energy in a nonlinear
 //   run and, between its weave and capsize speeds, rights itself after a push in roll, while
@@ -1666,4 +1669,240 @@ BOOST_AUTO_TEST_CASE(bad_inertia_tensors_are_rejected_naming_the_key) {
   BOOST_TEST(contains_all(load("[1, 1]"), {"model.body.b.inertia", "[J1, J2, J3]"}));
   BOOST_TEST(contains_all(load("2.0"), {"model.body.b.inertia", "symmetric 3x3"}));
   BOOST_TEST(load("[[1, 0.1, 0], [0.1, 1, 0], [0, 0, 1]]").empty());
+}
+
+// ---- the 2-D Coulomb cone's rows (issue 22 with docs/switching.md's cone) -------------------
+
+namespace {
+
+// A puck on the plane of a moving body (a spatial `deck`; models/contact/puck_plane_bodies.toml
+// has it on ground's): the plane's marker off the deck's origin and turned about a skew axis,
+// the puck's marker off its origin and turned too (its axes do not enter the rows).
+const char* kPuckOnDeck = R"(
+[model]
+name = "puck_on_deck"
+[model.parameters]
+mu_s = 0.4
+mu_k = 0.3
+[model.body.deck]
+kind = "spatial"
+mass = 5.0
+inertia = [0.4, 0.5, 0.6]
+markers.plane = { at = [0.3, -0.2, 0.1], axis = [1, 2, 3], angle = 0.7 }
+[model.body.puck]
+kind = "spatial"
+mass = 0.5
+inertia = [2.2e-4, 2.2e-4, 4e-4]
+markers.bottom = { at = [0.01, 0.02, -0.01], axis = [0, 1, 1], angle = -0.4 }
+[model.joint.table]
+type = "point_on_plane"
+body1 = "deck"
+marker1 = "plane"
+body2 = "puck"
+marker2 = "bottom"
+unilateral = true
+mu_static = "mu_s"
+mu_kinetic = "mu_k"
+)";
+
+// A random orientation and rates (e . e_d = 0) of a spatial body whose 7 coordinates start at i.
+void random_body(std::mt19937& rng, const Vector3d& centre, double spread, int i, Eigen::VectorXd& q,
+                 Eigen::VectorXd& qd) {
+  Vector4d e(uniform(rng), uniform(rng), uniform(rng), uniform(rng));
+  e.normalize();
+  Vector4d ed(uniform(rng), uniform(rng), uniform(rng), uniform(rng));
+  ed -= e * e.dot(ed);
+  q.segment<3>(i) = centre + spread * Vector3d(uniform(rng), uniform(rng), uniform(rng));
+  q.segment<4>(i + 3) = e;
+  qd.segment<3>(i) = 2.0 * Vector3d(uniform(rng), uniform(rng), uniform(rng));
+  qd.segment<4>(i + 3) = 2.0 * ed;  // |w| up to ~4 rad/s
+}
+
+// The values g q_d + g0 of the velocity-form rows `rows` at (q, q_d).
+Eigen::VectorXd row_values(const mech::Model& m, const std::vector<int>& rows, const Eigen::VectorXd& q,
+                           const Eigen::VectorXd& qd) {
+  const int s = static_cast<int>(rows.size());
+  Eigen::MatrixXd g(s, m.n());
+  Eigen::VectorXd g0(s), gamma(s);
+  m.constraint_rows(rows, 0.3, q, qd, g, g0, gamma);
+  return g * qd + g0;
+}
+
+// The contact attributes of a Coulomb row pair: both friction rows of the unilateral `gap`,
+// Coulomb (not rough), velocity form, with the joint's μ.
+void expect_coulomb_pair(const mech::Model& m, const std::string& gap, const std::string& x,
+                         const std::string& y, double mu_s, double mu_k) {
+  const auto& c = m.constraints();
+  const int in = m.constraint_index(gap);
+  BOOST_TEST(c[in].contact.unilateral);
+  BOOST_TEST(!c[in].contact.is_friction());
+  for (const std::string& r : {x, y}) {
+    BOOST_TEST_CONTEXT(r) {
+      const mech::ConstraintInfo& ci = c[m.constraint_index(r)];
+      BOOST_TEST(static_cast<int>(ci.kind) == static_cast<int>(mech::ConstraintKind::velocity));
+      BOOST_TEST(ci.contact.is_coulomb());
+      BOOST_TEST(!ci.contact.rough);
+      BOOST_TEST(!ci.contact.unilateral);
+      BOOST_TEST(ci.contact.friction_of == in);
+      BOOST_TEST(ci.contact.mu_static == mu_s);
+      BOOST_TEST(ci.contact.mu_kinetic == mu_k);
+    }
+  }
+}
+
+}  // namespace
+
+// A point_on_plane with mu_static (models/contact/puck_plane_bodies.toml on ground's plane,
+// moved to (1200, -900, 600) m and turned by psi = 0.5 about its normal; kPuckOnDeck on a
+// tumbling deck ~1e3 m from the origin): its rows table_slide_x, table_slide_y are the contact's
+// two Coulomb rows (friction = table_z, mu_s = 0.4, mu_k = 0.3), and at 20 random states each
+// they equal the closed form of the sliding velocity along u1 and v1: with P2 = r2 + A2 p2
+// (marker2's origin) v_rel = r2_d + w2 x (A2 p2) - (r1_d + w1 x (P2 - r1)), w = 2 E(e) e_d,
+// u1, v1 the columns of A1 R1 (Eigen's rotations, not the joint's texts). The states lie ~1e3 m
+// from the origin, where each position carries a rounding of 1e3 * 1.1e-16 m that the rows
+// multiply by |w| (a few rad/s) and by the axes' entries: 1e-12 of the velocities' scale
+// (|v_P2| + |v_1|) bounds it with a margin. The reaction F_table_x, _y, _z (joint frame) is
+// (lambda_slide_x, lambda_slide_y, lambda_z) and M_table is zero, for random multipliers.
+BOOST_AUTO_TEST_CASE(point_on_plane_friction_rows_are_the_sliding_velocity_along_the_planes_axes) {
+  for (const bool deck : {false, true}) {
+    BOOST_TEST_CONTEXT((deck ? "on a moving deck" : "on ground's plane")) {
+      const Vector3d X0(1200.0, -900.0, 600.0);
+      const auto desc = deck ? load_model_text(kPuckOnDeck, "puck_on_deck.toml")
+                             : load_model_file(model_path("contact/puck_plane_bodies.toml"));
+      const auto model = deck ? desc->instantiate({})
+                              : desc->instantiate({{"X0", X0[0]}, {"Y0", X0[1]}, {"Z0", X0[2]}});
+      expect_coulomb_pair(*model, "table_z", "table_slide_x", "table_slide_y", 0.4, 0.3);
+      const auto& names = model->coordinates();
+      const int ip = name_index(names, "puck_x"), id = deck ? name_index(names, "deck_x") : -1;
+      const Vector3d p1 = deck ? Vector3d(0.3, -0.2, 0.1) : Vector3d::Zero();
+      const Matrix3d R1 = deck ? Matrix3d(Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()))
+                               : Matrix3d(Eigen::AngleAxisd(0.5, Vector3d::UnitZ()));
+      const Vector3d p2 = deck ? Vector3d(0.01, 0.02, -0.01) : Vector3d(0, 0, -0.01);
+      const std::vector<int> rows = indices(*model, {"table_slide_x", "table_slide_y"});
+      std::mt19937 rng(deck ? 41 : 40);
+      double worst = 0, worst_F = 0;
+      for (int k = 0; k < 20; ++k) {
+        Eigen::VectorXd q = Eigen::VectorXd::Zero(model->n()), qd = q;
+        Vector3d r1 = X0, v1 = Vector3d::Zero(), w1 = Vector3d::Zero();
+        Matrix3d A1 = Matrix3d::Identity();
+        if (deck) {
+          random_body(rng, Vector3d(1000.0, -700.0, 400.0), 0.5, id, q, qd);
+          r1 = q.segment<3>(id);
+          A1 = A_of(q.segment<4>(id + 3));
+          w1 = 2 * E_of(q.segment<4>(id + 3)) * qd.segment<4>(id + 3);
+          v1 = qd.segment<3>(id);
+        }
+        const Vector3d P1 = r1 + A1 * p1;
+        random_body(rng, P1, 0.1, ip, q, qd);
+        const Vector4d e2 = q.segment<4>(ip + 3);
+        const Matrix3d A2 = A_of(e2);
+        const Vector3d w2 = 2 * E_of(e2) * qd.segment<4>(ip + 3);
+        const Vector3d P2 = q.segment<3>(ip) + A2 * p2;
+        const Vector3d vP2 = qd.segment<3>(ip) + w2.cross(A2 * p2);
+        const Vector3d vB1 = v1 + w1.cross(P2 - r1);  // body1's material point at P2
+        const Matrix3d U = A1 * R1;
+        const Eigen::Vector2d expected(U.col(0).dot(vP2 - vB1), U.col(1).dot(vP2 - vB1));
+        const Eigen::VectorXd got = row_values(*model, rows, q, qd);
+        worst = std::max(worst, (got - expected).cwiseAbs().maxCoeff() / (vP2.norm() + vB1.norm()));
+        // The reaction in the joint frame, from random multipliers of every row.
+        const std::vector<int> all = all_rows(*model);
+        Eigen::VectorXd lambda(static_cast<Eigen::Index>(all.size())), out;
+        for (auto& l : lambda) l = 10.0 * uniform(rng);
+        const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model->n());
+        model->derived_with_multipliers(0.3, q, qd, zero, zero, all, lambda, out);
+        auto column = [&](const std::string& c) { return out[name_index(model->derived_names(), c)]; };
+        auto lambda_of = [&](const std::string& r) { return lambda[model->constraint_index(r)]; };
+        for (double d : {column("F_table_x") - lambda_of("table_slide_x"), column("F_table_y") - lambda_of("table_slide_y"),
+                         column("F_table_z") - lambda_of("table_z"), column("M_table_x"), column("M_table_y"),
+                         column("M_table_z")})
+          worst_F = std::max(worst_F, std::abs(d) / 10.0);
+      }
+      BOOST_TEST_MESSAGE((deck ? "deck" : "ground") << ": slide rows against the closed form, worst " << worst
+                         << " of |v|; reaction against the multipliers, worst " << worst_F << " of |lambda|");
+      BOOST_TEST(worst < 1e-12);
+      BOOST_TEST(worst_F < 1e-14);
+    }
+  }
+}
+
+// A wheel with mu_static (models/contact/coin_friction_bodies.toml on a plane; wheel_in_bowl's
+// wheel on a sphere, inside and outside, made unilateral with mu_static = 0.5, mu_kinetic =
+// 0.25): its no-slip rows x, y are the contact's two Coulomb rows (not rough; the rolling coin
+// without mu_static keeps rough ones), and they are the sliding velocity of the wheel's material
+// contact point along two orthonormal tangents. The closed form, at 20 random states ~1e3 m from
+// the origin: a = A e_z (the axis), the contact point C + rho; the plane: rho = -r (n - (n.a) a)
+// / |n x a|, tangents x, y of the floor marker (ground's); the sphere (centre S): d = C - S,
+// d_p = d - (d.a) a, rho = -/+ r d_p/|d_p| (outside/inside), nu = +/-(d + rho)/|d + rho|,
+// t1 = a x rho / r, t2 = nu x t1, checked orthonormal and normal to nu here; the rows against
+// t.(C_d + w x rho), 1e-12 of |C_d| + |w| r (positions ~1e3 m rounded to 1e-13 m, as above).
+BOOST_AUTO_TEST_CASE(wheel_friction_rows_are_the_contact_points_sliding_velocity_along_orthonormal_tangents) {
+  {
+    const auto rough = load_model_file(model_path("contact/coin_rolling_bodies.toml"))->instantiate({});
+    for (const char* r : {"bounce_x", "bounce_y"}) {
+      const auto& c = rough->constraints()[rough->constraint_index(r)].contact;
+      BOOST_TEST((c.is_friction() && c.rough && !c.is_coulomb()), r);
+    }
+  }
+  struct Case {
+    std::string name;
+    std::string text;
+    bool sphere, inside;
+  };
+  std::string bowl = model_text("wheel_in_bowl_bodies.toml");
+  const std::string inside_key = "inside = true\n";
+  bowl.replace(bowl.find(inside_key), inside_key.size(),
+               "inside = true\nunilateral = true\nmu_static = 0.5\nmu_kinetic = 0.25\n");
+  std::string ball = bowl;
+  ball.replace(ball.find(inside_key), inside_key.size(), "inside = false\n");
+  const std::vector<Case> cases{{"coin_friction_bodies", model_text("contact/coin_friction_bodies.toml"), false, false},
+                                {"bowl", bowl, true, true},
+                                {"ball", ball, true, false}};
+  const Vector3d S(1100.0, -800.0, 500.0);
+  for (const Case& c : cases) {
+    BOOST_TEST_CONTEXT(c.name) {
+      const auto desc = load_model_text(c.text, c.name + ".toml");
+      const auto model = desc->instantiate({{"X0", S[0]}, {"Y0", S[1]}, {"Z0", S[2]}});
+      const std::string j = c.sphere ? "roll" : "bounce";
+      const std::string body = c.sphere ? "wheel" : "coin";
+      const double r = c.sphere ? 0.2 : 0.012, R = 1.0;
+      expect_coulomb_pair(*model, j + "_n", j + "_x", j + "_y", c.sphere ? 0.5 : 0.3, c.sphere ? 0.25 : 0.2);
+      const int ib = name_index(model->coordinates(), body + "_x");
+      const std::vector<int> rows = indices(*model, {j + "_x", j + "_y"});
+      std::mt19937 rng(43);
+      double worst = 0, ortho = 0;
+      for (int k = 0; k < 20; ++k) {
+        Eigen::VectorXd q = Eigen::VectorXd::Zero(model->n()), qd = q;
+        Vector3d dir(uniform(rng), uniform(rng), uniform(rng));
+        dir.normalize();
+        const Vector3d centre = c.sphere ? Vector3d(S + (c.inside ? R - r : R + r) * dir) : Vector3d(S + Vector3d(0, 0, r));
+        random_body(rng, centre, 0.3 * r, ib, q, qd);
+        const Vector3d C = q.segment<3>(ib), Cd = qd.segment<3>(ib);
+        const Vector4d e = q.segment<4>(ib + 3);
+        const Vector3d a = A_of(e).col(2), w = 2 * E_of(e) * qd.segment<4>(ib + 3);
+        Vector3d rho, t1, t2;
+        if (!c.sphere) {
+          const Vector3d n = Vector3d::UnitZ();
+          rho = -r * (n - n.dot(a) * a) / n.cross(a).norm();
+          t1 = Vector3d::UnitX();
+          t2 = Vector3d::UnitY();
+        } else {
+          const Vector3d d = C - S, dp = d - d.dot(a) * a;
+          rho = (c.inside ? r : -r) * dp / dp.norm();
+          const Vector3d nu = (c.inside ? -1.0 : 1.0) * (d + rho).normalized();
+          t1 = a.cross(rho) / r;
+          t2 = nu.cross(t1);
+          for (double v : {t1.norm() - 1, t2.norm() - 1, t1.dot(t2), t1.dot(nu), t2.dot(nu)})
+            ortho = std::max(ortho, std::abs(v));
+        }
+        const Vector3d vc = Cd + w.cross(rho);  // the wheel's material point at the contact
+        const Eigen::Vector2d expected(t1.dot(vc), t2.dot(vc));
+        worst = std::max(worst, (row_values(*model, rows, q, qd) - expected).cwiseAbs().maxCoeff() /
+                                    (Cd.norm() + w.norm() * r));
+      }
+      BOOST_TEST_MESSAGE(c.name << ": x, y rows against the closed-form sliding velocity, worst " << worst
+                         << " of |v|; tangents orthonormal and normal to nu to " << ortho);
+      BOOST_TEST(worst < 1e-12);
+      BOOST_TEST(ortho < 1e-14);
+    }
+  }
 }
