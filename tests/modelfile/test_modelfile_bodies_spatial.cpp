@@ -1777,7 +1777,7 @@ BOOST_AUTO_TEST_CASE(point_on_plane_friction_rows_are_the_sliding_velocity_along
       const Vector3d p1 = deck ? Vector3d(0.3, -0.2, 0.1) : Vector3d::Zero();
       const Matrix3d R1 = deck ? Matrix3d(Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()))
                                : Matrix3d(Eigen::AngleAxisd(0.5, Vector3d::UnitZ()));
-      const Vector3d p2 = deck ? Vector3d(0.01, 0.02, -0.01) : Vector3d(0, 0, -0.01);
+      const Vector3d p2 = deck ? Vector3d(0.01, 0.02, -0.01) : Vector3d(0, 0, 0);  // the puck's centre
       const std::vector<int> rows = indices(*model, {"table_slide_x", "table_slide_y"});
       std::mt19937 rng(deck ? 41 : 40);
       double worst = 0, worst_F = 0;
