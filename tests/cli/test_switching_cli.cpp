@@ -254,3 +254,29 @@ BOOST_AUTO_TEST_CASE(coin_on_a_wheel_joint_hops_and_wheel_contact_keys_that_do_n
     BOOST_TEST(block.find("\nfriction = \"bounce_n\"\nmu_static = \"0.3\"\nmu_kinetic = \"0.2\"") != std::string::npos, block);
   }
 }
+
+// The coin with friction (cases/coin_skid.toml: a rolling wheel with mu_static, whose no-slip
+// rows are the contact's 2-D Coulomb cone) set down skidding rolls from the closed-form instant
+// vs/(3 mu_k g): one stick event in events.csv (1e-9 s, the file's digits), its friction work in
+// summary.json equal to the kinetic energy lost (1e-9 relative).
+BOOST_AUTO_TEST_CASE(a_skidding_coin_case_rolls_from_the_closed_form_instant) {
+  TempDir dir("switching_cli");
+  const fs::path out = dir.path / "skid";
+  const Result r = pcsim("run cases/coin_skid.toml --out '" + out.string() + "'");
+  BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
+  const std::string ev = read(out / "events.csv");
+  std::istringstream in(ev);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  BOOST_REQUIRE_EQUAL(rows.size(), 1u);
+  BOOST_TEST(rows[0].find(",stick,bounce_n,slip,stick,") != std::string::npos, rows[0]);
+  const double ts = (0.4 - 0.012 * 10.0) / (3 * 0.2 * 9.81);
+  BOOST_TEST(std::abs(std::stod(rows[0]) - ts) < 1e-9, rows[0]);
+  const auto s = nlohmann::json::parse(read(out / "summary.json"));
+  const double m = 0.01, rr = 0.012, J = m * rr * rr / 2, v1 = (2 * 0.4 + rr * 10.0) / 3;
+  const double dT = 0.5 * m * 0.4 * 0.4 + 0.5 * J * 100.0 - (0.5 * m * v1 * v1 + 0.5 * J * (v1 / rr) * (v1 / rr));
+  const double W = s["switching"]["energy_dissipated"]["friction"].get<double>();
+  BOOST_TEST(std::abs(W - dT) < 1e-9 * dT, "friction work " << W << " J, kinetic energy lost " << dT << " J");
+}
