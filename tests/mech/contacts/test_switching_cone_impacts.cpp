@@ -1,0 +1,176 @@
+// Impacts with 2-D Coulomb cones never create energy (issue 19's property, for issue 22's cone):
+// a generated family of impact configurations of a spatial rigid body, a tetrahedron of four
+// particles of random masses held by six rods, whose first 1 to 3 vertices touch random planes,
+// each contact with a random e_n in [0, 1] (1 in a seventh), and a 2-D cone (two friction rows
+// along orthonormal tangents of its plane, velocity form) with mu in [0, 1] on most, hit with
+// random velocities. The impact map (resolve_impact, the run's own: Newton's law, the cones'
+// law contact by contact, the energy rule, the accumulation rule) never increases
+// T = ½ Σ m_i |v_i|² beyond rounding, leaves no touching contact approaching, and keeps each
+// tangential impulse in its cone. The oracle is T and the velocities computed here.
+#define BOOST_TEST_MODULE switching_cone_impacts
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "switching_util.hpp"
+
+using namespace switching_test;
+
+namespace {
+
+std::string tetrahedron_text() {
+  std::ostringstream os;
+  os << "[model]\nname = \"tetrahedron_on_planes\"\ncoordinates = [";
+  for (int i = 1; i <= 4; ++i)
+    for (const char* c : {"x", "y", "z"}) os << (i == 1 && std::string(c) == "x" ? "" : ", ") << '"' << c << i << '"';
+  os << "]\n\n[model.parameters]\ng = { value = 9.81, unit = \"m/s^2\", meaning = \"gravity\" }\n";
+  for (int i = 1; i <= 4; ++i) os << "m" << i << " = { value = 1.0, unit = \"kg\", meaning = \"mass\", positive = true }\n";
+  for (int k = 1; k <= 3; ++k) {
+    for (const char* p : {"nx", "ny", "nz", "ax", "ay", "az", "bx", "by", "bz", "d"})
+      os << p << k << " = { value = 0.0, unit = \"1\", meaning = \"contact geometry\" }\n";
+    os << "e" << k << " = { value = 0.5, unit = \"1\", meaning = \"restitution\", min = 0.0, max = 1.0 }\n";
+    os << "mu" << k << " = { value = 0.5, unit = \"1\", meaning = \"friction\", min = 0.0 }\n";
+  }
+  os << "\n[model.energy]\nkinetic = \"";
+  for (int i = 1; i <= 4; ++i)
+    os << (i > 1 ? " + " : "") << "0.5*m" << i << "*(x" << i << "_d^2 + y" << i << "_d^2 + z" << i << "_d^2)";
+  os << "\"\npotential = \"g*(m1*z1 + m2*z2 + m3*z3 + m4*z4)\"\n";
+  for (int i = 1; i <= 4; ++i)
+    for (int j = i + 1; j <= 4; ++j)
+      os << "\n[[model.constraint]]\nname = \"rod" << i << j << "\"\nholonomic = \"(x" << j << " - x" << i << ")^2 + (y" << j
+         << " - y" << i << ")^2 + (z" << j << " - z" << i << ")^2\"\nfrom_initial = true\n";
+  for (int k = 1; k <= 3; ++k) {
+    const std::string K = std::to_string(k);
+    os << "\n[[model.constraint]]\nname = \"c" << K << "\"\nholonomic = \"nx" << K << "*x" << K << " + ny" << K << "*y" << K
+       << " + nz" << K << "*z" << K << " - d" << K << "\"\nunilateral = true\nrestitution = \"e" << K << "\"\n";
+    for (const char* t : {"a", "b"})
+      os << "\n[[model.constraint]]\nname = \"f" << K << t << "\"\nvelocity = { x" << K << " = \"" << t << "x" << K
+         << "\", y" << K << " = \"" << t << "y" << K << "\", z" << K << " = \"" << t << "z" << K << "\" }\nfriction = \"c"
+         << K << "\"\nmu_static = \"mu" << K << "\"\n";
+  }
+  return os.str();
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(impacts_with_2d_cones_never_create_energy_nor_leave_a_contact_approaching) {
+  const auto desc = modelfile::load_model_text(tetrahedron_text(), "tetrahedron_on_planes.toml");
+  std::mt19937 rng(2211);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  auto unit = [&]() {
+    Eigen::Vector3d v;
+    do v = Eigen::Vector3d(2 * U(rng) - 1, 2 * U(rng) - 1, 2 * U(rng) - 1);
+    while (v.norm() < 0.2 || v.norm() > 1.0);
+    return Eigen::Vector3d(v.normalized());
+  };
+  long trials = 0, refused = 0, impacts = 0, several = 0, limited = 0, cones = 0;
+  long refused_by[4] = {0, 0, 0, 0};
+  double worst_gain = -1.0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const int nc = 1 + trial % 3;
+    std::map<std::string, double> p;
+    Eigen::VectorXd q(12), qd(12);
+    Eigen::Vector4d mass;
+    const Eigen::Vector3d centre(300.0 * (2 * U(rng) - 1), 300.0 * (2 * U(rng) - 1), 50.0 * U(rng));
+    for (int i = 0; i < 4; ++i) {
+      q.segment<3>(3 * i) = centre + 0.5 * Eigen::Vector3d(2 * U(rng) - 1, 2 * U(rng) - 1, 2 * U(rng) - 1);
+      mass[i] = 0.2 + 2 * U(rng);
+      p["m" + std::to_string(i + 1)] = mass[i];
+    }
+    std::vector<std::string> active{"rod12", "rod13", "rod14", "rod23", "rod24", "rod34"};
+    std::vector<Eigen::Vector3d> normals;
+    std::vector<bool> with_cone;
+    for (int k = 1; k <= nc; ++k) {
+      const std::string K = std::to_string(k);
+      const Eigen::Vector3d n = unit();
+      Eigen::Vector3d a = n.unitOrthogonal(), b = n.cross(a);
+      const double turn = 2 * M_PI * U(rng);  // the tangents turned about n
+      const Eigen::Vector3d a2 = std::cos(turn) * a + std::sin(turn) * b, b2 = n.cross(a2);
+      const char* c = "xyz";
+      for (int j = 0; j < 3; ++j) {
+        p[std::string("n") + c[j] + K] = n[j];
+        p[std::string("a") + c[j] + K] = a2[j];
+        p[std::string("b") + c[j] + K] = b2[j];
+      }
+      p["d" + K] = n.dot(q.segment<3>(3 * (k - 1)));  // touching at q
+      p["e" + K] = trial % 7 == 0 ? 1.0 : U(rng);
+      p["mu" + K] = U(rng);
+      active.push_back("c" + K);
+      with_cone.push_back(U(rng) < 0.8);
+      if (with_cone.back()) {
+        active.push_back("f" + K + "a");
+        active.push_back("f" + K + "b");
+        ++cones;
+      }
+      normals.push_back(n);
+    }
+    // A rigid velocity v_c + w x (p - c), so that the rods hold.
+    const Eigen::Vector3d vc(2 * U(rng) - 1, 2 * U(rng) - 1, 2 * U(rng) - 1), w(4 * U(rng) - 2, 4 * U(rng) - 2, 4 * U(rng) - 2);
+    for (int i = 0; i < 4; ++i) qd.segment<3>(3 * i) = vc + w.cross(q.segment<3>(3 * i) - centre);
+    auto approaching = [&](const Eigen::VectorXd& v) {
+      bool any = false;
+      for (int k = 0; k < nc; ++k) any = any || normals[k].dot(v.segment<3>(3 * k)) < -1e-3;
+      return any;
+    };
+    if (!approaching(qd)) qd = -qd;
+    if (!approaching(qd)) continue;
+    std::shared_ptr<const Model> model;
+    try {
+      model = desc->instantiate(p, q, 0.0);
+    } catch (const std::exception& e) {
+      BOOST_FAIL("instantiate: " << e.what());
+    }
+    for (double zeno : {0.0, 1e-6}) {
+      SwitchingOptions sw;
+      sw.zeno_time = zeno;
+      SimulationOptions o;
+      o.rtol = o.atol = 1e-10;
+      const ImpactOutcome r = resolve_impact(*model, active, 0.0, q, qd, o, sw);
+      ++trials;
+      if (!r.ok) {
+        BOOST_TEST(r.message.find("the impact at t = 0 (contacts 'c1'") != std::string::npos, r.message);
+        ++refused;
+        ++refused_by[nc];
+        continue;
+      }
+      ++impacts;
+      if (nc > 1) ++several;
+      limited += r.energy_limited;
+      double T0 = 0, T1 = 0;
+      for (int i = 0; i < 4; ++i) {
+        T0 += 0.5 * mass[i] * qd.segment<3>(3 * i).squaredNorm();
+        T1 += 0.5 * mass[i] * r.qd_after.segment<3>(3 * i).squaredNorm();
+      }
+      worst_gain = std::max(worst_gain, (T1 - T0) / T0);
+      BOOST_TEST(T1 <= T0 * (1 + 1e-10), "trial " << trial << " (" << nc << " contacts, zeno " << zeno << "): T " << T0 << " -> " << T1);
+      BOOST_TEST(std::abs(r.energy_change - (T1 - T0)) <= 1e-9 * T0);
+      for (int k = 0; k < nc; ++k) {
+        const double vn_after = normals[k].dot(r.qd_after.segment<3>(3 * k));
+        BOOST_TEST(vn_after >= -1e-8 * (1 + qd.norm()), "trial " << trial << ": contact " << k << " still approaches: " << vn_after);
+      }
+      for (const ContactEvent& e : r.events) {
+        BOOST_TEST(e.normal >= -1e-12);
+        BOOST_TEST(e.tangential >= 0.0);  // a cone's magnitude
+        BOOST_TEST(e.tangential <= p["mu" + e.constraint.substr(1)] * e.normal * (1 + 1e-9) + 1e-12,
+                   "trial " << trial << ": |Lambda_t| " << e.tangential << " outside the cone of " << e.normal);
+      }
+      // The rods hold through the impulse: the velocities stay rigid.
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+          const Eigen::Vector3d d = q.segment<3>(3 * j) - q.segment<3>(3 * i);
+          const Eigen::Vector3d dv = r.qd_after.segment<3>(3 * j) - r.qd_after.segment<3>(3 * i);
+          BOOST_TEST(std::abs(d.dot(dv)) <= 1e-9 * (1 + qd.norm()));
+        }
+    }
+  }
+  BOOST_TEST_MESSAGE(trials << " resolutions (" << cones << " cones), " << refused << " refused, " << impacts << " impacts ("
+                            << several << " with several contacts), " << limited
+                            << " limited by the energy rule; largest relative change of T " << worst_gain);
+  BOOST_TEST_MESSAGE("refused with 1, 2, 3 contacts: " << refused_by[1] << ", " << refused_by[2] << ", " << refused_by[3]);
+  BOOST_TEST(refused_by[1] == 0);
+  BOOST_TEST(refused < trials / 10);
+  BOOST_TEST(several > 300);
+}
