@@ -5,6 +5,7 @@
 #define BOOST_TEST_MODULE switching_cli
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 
@@ -279,4 +280,29 @@ BOOST_AUTO_TEST_CASE(a_skidding_coin_case_rolls_from_the_closed_form_instant) {
   const double dT = 0.5 * m * 0.4 * 0.4 + 0.5 * J * 100.0 - (0.5 * m * v1 * v1 + 0.5 * J * (v1 / rr) * (v1 / rr));
   const double W = s["switching"]["energy_dissipated"]["friction"].get<double>();
   BOOST_TEST(std::abs(W - dT) < 1e-9 * dT, "friction work " << W << " J, kinetic energy lost " << dT << " J");
+  // The joint's force in its frame while it skids is the kinetic friction, against the contact
+  // point's sliding (+x): F_x = -mu_k m g, F_z = m g, and its moment about the centre r mu_k m g
+  // (the columns of the sliding rows carry the friction law's multipliers); once it rolls it
+  // needs no friction.
+  std::istringstream series(read(out / "timeseries.csv"));
+  std::string header, first, last, row;
+  std::getline(series, header);
+  std::getline(series, first);
+  while (std::getline(series, row)) last = row;
+  auto column = [&](const std::string& line, const std::string& name) {
+    std::vector<std::string> h, v;
+    std::string cell;
+    for (std::istringstream a(header); std::getline(a, cell, ',');) h.push_back(cell);
+    for (std::istringstream b(line); std::getline(b, cell, ',');) v.push_back(cell);
+    const auto at = std::find(h.begin(), h.end(), name) - h.begin();
+    BOOST_REQUIRE(at < static_cast<long>(v.size()));
+    return std::stod(v[at]);
+  };
+  const double N = m * 9.81;
+  BOOST_TEST(std::abs(column(first, "F_bounce_x") + 0.2 * N) < 1e-12, first);
+  BOOST_TEST(std::abs(column(first, "F_bounce_y")) < 1e-12, first);
+  BOOST_TEST(std::abs(column(first, "F_bounce_z") - N) < 1e-12, first);
+  BOOST_TEST(std::abs(column(first, "M_bounce_y") - rr * 0.2 * N) < 1e-12, first);
+  BOOST_TEST(std::abs(column(last, "F_bounce_x")) < 1e-12, last);
+  BOOST_TEST(std::abs(column(last, "F_bounce_z") - N) < 1e-12, last);
 }

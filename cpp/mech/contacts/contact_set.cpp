@@ -262,6 +262,7 @@ ModelIssue solve_reactions(Dynamics& d, const ContactSet& cs, const Layout& L, c
   out.qdd = d.qdd;
   out.R = d.R;
   out.lambda = d.lambda.head(L.s_A);
+  out.lambda_set = d.lambda.head(L.set.size());
   out.lambda_n.assign(cs.nc(), 0.0);
   out.lambda_t.assign(cs.nc(), 0.0);
   out.lambda_t2.assign(cs.nc(), 0.0);

@@ -149,6 +149,10 @@ class ContactSet {
 /// Reactions at one state for one configuration.
 struct Solved {
   Eigen::VectorXd qdd, R, lambda;     ///< lambda: the s_A imposed multipliers
+  /// The multipliers of every row of the layout's set: the imposed ones, then the sliding
+  /// friction rows' (the kinetic friction force −μ_k λ_n σ, or its components −μ_k λ_n v/|v| on a
+  /// 2-D cone), for the per-joint reaction columns and lambda_<row> outputs.
+  Eigen::VectorXd lambda_set;
   std::vector<double> lambda_n, lambda_t;  ///< per contact (0 when open / no friction)
   std::vector<double> lambda_t2;           ///< per contact: a 2-D cone's second component
   /// The friction force's magnitude |λ_t| (1-D) or |(λ_t1, λ_t2)| (2-D cone).

@@ -161,12 +161,15 @@ void Segment::fill_sample(double t, const Eigen::VectorXd& q, const Eigen::Vecto
     out.qdd = sample_solved_.qdd;
     out.R = sample_solved_.R;
     out.lambda = sample_solved_.lambda;
+    lambda_set_ = sample_solved_.lambda_set;
   } else {
     out.qdd = Eigen::VectorXd::Constant(n_, std::nan(""));
     out.R = out.qdd;
     out.lambda = Eigen::VectorXd::Constant(layout_.s_A, std::nan(""));
+    lambda_set_ = Eigen::VectorXd::Constant(layout_.set.size(), std::nan(""));
   }
-  model_.derived_with_multipliers(t, q, qd, out.qdd, out.R, layout_.imposed, out.lambda, out.derived);
+  // Every row of the set: a sliding contact's friction rows carry the kinetic friction force.
+  model_.derived_with_multipliers(t, q, qd, out.qdd, out.R, layout_.set.rows(), lambda_set_, out.derived);
   out.residual_pos = 0.0;
   for (int i : layout_.imposed)
     if (model_.constraints()[i].kind == ConstraintKind::holonomic && modes_logic_.position_level(i))

@@ -113,7 +113,7 @@ class Segment {
   std::vector<ContactMode> modes_;
   Dynamics rhs_dyn_, sample_dyn_, event_dyn_;
   Solved rhs_solved_, ev_solved_, sample_solved_;
-  Eigen::VectorXd q_, qd_, q_e_, qd_e_, dense_, dq_, dqd_, sq_, sqd_;
+  Eigen::VectorXd q_, qd_, q_e_, qd_e_, dense_, dq_, dqd_, sq_, sqd_, lambda_set_;
   const StepInfo* step_ = nullptr;
   double step_end_ = 0.0;
   Sample cache_;
