@@ -774,9 +774,7 @@ Expr time_derivative(Expander& x, const Expr& f, const std::string& key) {
   for (const auto& par : x.source().parameters) p.define(par.name, GiNaC::realsymbol(par.name));
   p.add_hint({"", "", "a prescribed motion may use t, the parameters and numbers only"});
   const GiNaC::ex e = p.parse(ExprText{x.where(), key, f});
-  std::ostringstream os;
-  os << e.diff(t);
-  return os.str();
+  return detail::canonical_text(e.diff(t));
 }
 
 // Degree of freedom `index` of a tree joint: its coordinate, or its prescribed motion.

@@ -150,9 +150,7 @@ class TimeDerivatives {
   // The derivative in the model-file language (GiNaC prints π as Pi), checked by reading it
   // back: a function whose derivative the language cannot write (min, max: a step) is refused.
   std::string print(const GiNaC::ex& d, const detail::ExprText& of) {
-    std::ostringstream os;
-    os << d.subs(GiNaC::Pi == pi_);
-    const std::string text = os.str();
+    const std::string text = detail::canonical_text(d.subs(GiNaC::Pi == pi_));
     try {
       (void)parser_.parse(detail::ExprText{of.where, of.key, text});
     } catch (const InputError&) {

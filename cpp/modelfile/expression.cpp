@@ -116,6 +116,84 @@ unsigned heaviside_serial() {
           .derivative_func(heaviside_derivative));
   return serial;
 }
+namespace {
+
+std::string ginac_text(const ex& e) {
+  std::ostringstream os;
+  os << e;
+  return os.str();
+}
+
+// Texts of the functions the model-file language names, by GiNaC's name.
+bool language_function(const std::string& name) {
+  static const std::set<std::string> known{"sin",  "cos",  "tan",  "asin", "acos", "atan", "atan2", "sinh",
+                                           "cosh", "tanh", "exp",  "log",  "abs",  "min",  "max"};
+  return known.count(name) != 0;
+}
+
+std::string canonical(const ex& e);
+
+// A factor or a base: in parentheses unless it is an atom, a function call or a positive integer.
+std::string operand(const ex& e) {
+  const std::string t = canonical(e);
+  if (GiNaC::is_a<GiNaC::symbol>(e) || GiNaC::is_a<GiNaC::function>(e) || GiNaC::is_a<GiNaC::constant>(e)) return t;
+  if (GiNaC::is_a<GiNaC::numeric>(e) && GiNaC::ex_to<GiNaC::numeric>(e).is_pos_integer()) return t;
+  return "(" + t + ")";
+}
+
+std::string canonical(const ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::symbol>(e)) return ginac_text(e);
+  if (GiNaC::is_a<GiNaC::constant>(e)) return e.is_equal(GiNaC::Pi) ? "pi" : ginac_text(e);
+  if (GiNaC::is_a<GiNaC::add>(e)) {
+    std::vector<std::string> terms;
+    for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(canonical(e.op(i)));
+    std::sort(terms.begin(), terms.end());
+    std::string out;
+    for (const std::string& t : terms) out += out.empty() || t[0] == '-' ? t : "+" + t;
+    return out;
+  }
+  if (GiNaC::is_a<GiNaC::mul>(e)) {
+    GiNaC::numeric c = 1;
+    std::vector<std::string> factors;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      if (GiNaC::is_a<GiNaC::numeric>(e.op(i))) {
+        c *= GiNaC::ex_to<GiNaC::numeric>(e.op(i));
+        continue;
+      }
+      const ex& f = e.op(i);
+      factors.push_back(GiNaC::is_a<GiNaC::add>(f) || GiNaC::is_a<GiNaC::mul>(f) ? "(" + canonical(f) + ")"
+                                                                                  : canonical(f));
+    }
+    std::sort(factors.begin(), factors.end());
+    std::string body;
+    for (const std::string& f : factors) body += (body.empty() ? "" : "*") + f;
+    if (body.empty()) return ginac_text(c);
+    if (c.is_equal(1)) return body;
+    if (c.is_equal(-1)) return "-" + body;
+    return ginac_text(c) + "*" + body;
+  }
+  if (GiNaC::is_a<GiNaC::power>(e)) {
+    const ex& b = e.op(0);
+    const ex& x = e.op(1);
+    if (x.is_equal(GiNaC::numeric(1, 2))) return "sqrt(" + canonical(b) + ")";
+    const std::string base = operand(b);
+    if (GiNaC::is_a<GiNaC::numeric>(x) && GiNaC::ex_to<GiNaC::numeric>(x).is_pos_integer()) return base + "^" + canonical(x);
+    return base + "^(" + canonical(x) + ")";
+  }
+  if (GiNaC::is_a<GiNaC::function>(e)) {
+    const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+    if (!language_function(name)) return ginac_text(e);
+    std::string out = name + "(";
+    for (std::size_t i = 0; i < e.nops(); ++i) out += (i ? "," : "") + canonical(e.op(i));
+    return out + ")";
+  }
+  return ginac_text(e);
+}
+
+}  // namespace
+
+std::string canonical_text(const GiNaC::ex& e) { return canonical(e); }
+
 ex min_of(const ex& a, const ex& b) { return GiNaC::function(min_serial(), a, b); }
 ex max_of(const ex& a, const ex& b) { return GiNaC::function(max_serial(), a, b); }
 ex heaviside(const ex& a) { return GiNaC::function(heaviside_serial(), a); }

@@ -111,6 +111,15 @@ class ExpressionParser {
   std::vector<Hint> hints_;
 };
 
+/// An expression printed in the model-file language in an order that does not depend on the
+/// process: the terms of a sum and the factors of a product sorted by their own texts, π as
+/// `pi`. GiNaC's own printing orders them by hash values seeded with the addresses of type
+/// names, which move from run to run (address-space randomization): a derived velocity printed
+/// `A*omega*cos(t*omega)` once and `A*cos(t*omega)*omega` the next time, so `pcsim expand` and
+/// the tapes built from such texts differed between runs. Functions the language does not name
+/// (none is expected) are printed by GiNaC.
+std::string canonical_text(const GiNaC::ex& e);
+
 /// A double from a GiNaC numeric that is real and finite; throws InputError otherwise.
 double to_real(const GiNaC::ex& number, const ExprText& where);
 

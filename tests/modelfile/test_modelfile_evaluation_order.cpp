@@ -23,6 +23,7 @@
 #include <ginac/ginac.h>
 
 #include "../support/cli_util.hpp"
+#include "modelfile/expression.hpp"
 #include "modelfile/expression_model.hpp"
 #include "modelfile/model_file.hpp"
 #include "modelfile_test_util.hpp"
@@ -403,4 +404,51 @@ BOOST_AUTO_TEST_CASE(every_load_of_a_file_gives_the_same_tape) {
       BOOST_TEST((o.str() == first), name << ": load " << k << " gives another tape");
     }
   }
+}
+
+// `pcsim expand` prints the same text in every process (issue 22's expand contract): the texts
+// it derives with GiNaC (a drive's velocity, a marker's acceleration) are printed by
+// detail::canonical_text, not by GiNaC, whose order of factors follows hash values seeded with
+// the addresses of type names, which address-space randomization moves from run to run: the
+// vibrating table's slot velocity printed `A*omega*cos(t*omega)` in some runs and
+// `A*cos(t*omega)*omega` in others (4 different texts in 6 runs before the fix). Six fresh
+// processes per model.
+BOOST_AUTO_TEST_CASE(expanded_text_is_the_same_in_every_process) {
+  pcsim_test::TempDir dir("evalorder_expand");
+  for (const char* m : {"contact/table_ball_bodies.toml", "sieve_1995_bodies.toml", "whipple_bodies.toml"}) {
+    std::string first;
+    for (int k = 0; k < 6; ++k) {
+      const auto r = pcsim_test::sh(pcsim_test::exe() + " expand '" + model_path(m).string() + "'", dir.path);
+      BOOST_TEST_REQUIRE(r.status == 0, r.out);
+      if (k == 0) first = r.out;
+      BOOST_TEST((r.out == first), m << ": process " << k << " printed another text");
+    }
+  }
+}
+
+// canonical_text orders sums and products by their own texts: the same expression built from
+// symbols made in either order (GiNaC orders by their serial numbers) prints the same, and the
+// text reads back to the expression (pi included, printed as the language's `pi`).
+BOOST_AUTO_TEST_CASE(canonical_text_does_not_depend_on_the_order_symbols_were_made) {
+  auto build = [](bool a_first) {
+    std::map<std::string, GiNaC::symbol> s;
+    const char* names[3] = {"omega", "A", "t"};
+    for (int i = 0; i < 3; ++i) {
+      const char* n = names[a_first ? i : 2 - i];
+      s.emplace(n, GiNaC::symbol(n));
+    }
+    const GiNaC::ex w = s.at("omega"), A = s.at("A"), t = s.at("t");
+    const GiNaC::ex e = A * GiNaC::sin(w * t + GiNaC::Pi / 3) * GiNaC::pow(w, 3) - GiNaC::numeric(3, 2) * GiNaC::sqrt(A + t) / w +
+                        GiNaC::atan2(t, A) * (w - A) * (t + 1);
+    return std::make_pair(e.diff(GiNaC::ex_to<GiNaC::symbol>(t)), s);
+  };
+  const auto [e1, s1] = build(true);
+  const auto [e2, s2] = build(false);
+  const std::string c1 = detail::canonical_text(e1), c2 = detail::canonical_text(e2);
+  BOOST_TEST_MESSAGE(c1);
+  BOOST_TEST(c1 == c2);
+  detail::ExpressionParser p;
+  for (const auto& [n, sym] : s1) p.define(n, sym);
+  const GiNaC::ex back = p.parse(detail::ExprText{"test", "canonical", c1});
+  BOOST_TEST((back - e1).expand().is_zero(), "read back: " << back);
 }
