@@ -64,8 +64,8 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
   const Eigen::MatrixXd M = d_.M;
   // With rough rows: the impulse that brings them to rest first (dv0, the M-weighted projection
   // onto them; it never creates kinetic energy on fixed surfaces), then Newton's law and the
-  // energy rule on the normal velocities it leaves (a sequential rough impact: for a wheel
-  // landing upright the rough impulse does not change the normal approach).
+  // energy rule with the rough rows held (Newton bounded by the approach before the impact: a
+  // simultaneous rough impact, below).
   const Eigen::VectorXd v_true = J * qd + j0;  // velocities before (reported)
   double dT_rough = 0.0;
   if (!extra.empty()) {
@@ -74,6 +74,11 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
   }
   p.W = J * P * J.transpose();
   p.f = J * qd + j0;  // velocities before (after the rough impulse)
+  // Newton's law refers to the normal velocities before the impact, not to those the rough
+  // impulse left: v_n⁺ >= −e v_n⁻ with the rough rows held, the simultaneous rough impact (the
+  // impulses of the normal and rough rows solve one system; P imposes the rough rows, so the
+  // normal problem sees f = the velocities after their impulse, and −e v_n⁻ as its bound).
+  if (!extra.empty()) p.newton_ref = v_true;
   const Eigen::VectorXd v_before = p.f;
   // The change of kinetic energy by the contact impulses Λ, from the velocity change they
   // make (Δq̇ = P Jᵀ Λ): ΔT = q̇⁻ᵀ M Δq̇ + ½ Δq̇ᵀ M Δq̇ + Λ·j0. For scleronomic contacts this is

@@ -114,7 +114,7 @@ void assemble(Problem& p) {
   p.b = Eigen::VectorXd::Zero(nz);
   for (const Cand& k : p.cands) {
     p.A.row(k.zn) = WE.row(k.kn);
-    p.b[k.zn] = (p.impulse ? 1.0 + k.e : 1.0) * p.f[k.kn];
+    p.b[k.zn] = p.free_normal(k);
     if (!k.frictional || k.kt2 >= 0) continue;  // a cone's other rows: not an LCP's
     p.A.row(k.zn + 1) = WE.row(k.kt);
     p.A(k.zn + 1, k.zn + 3) += 1.0;
@@ -198,7 +198,7 @@ void polish(const Problem& p, Eigen::VectorXd& z) {
   };
   for (const Cand& k : p.cands) {
     const bool closed = z[k.zn] > tol;
-    const double bn = (p.impulse ? 1.0 + k.e : 1.0) * p.f[k.kn];
+    const double bn = p.free_normal(k);
     if (!closed) {
       rows.push_back(unit(k.kn));
       rhs.push_back(0.0);
@@ -417,7 +417,7 @@ bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why) {
   const int nj = static_cast<int>(p.W.rows());
   Eigen::VectorXd b(nj);
   for (const Cand& k : p.cands) {
-    b[k.kn] = (p.impulse ? 1.0 + k.e : 1.0) * p.f[k.kn];
+    b[k.kn] = p.free_normal(k);
     if (k.kt >= 0) b[k.kt] = p.f[k.kt];
     if (k.kt2 >= 0) b[k.kt2] = p.f[k.kt2];
   }

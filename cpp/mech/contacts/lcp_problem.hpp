@@ -42,6 +42,16 @@ struct Problem {
   Eigen::MatrixXd W, E, A;  ///< E: rows of J x variables (Λ_J = E z)
   Eigen::VectorXd f, b;
   bool impulse = false;
+  /// Impulse level: the velocities Newton's law refers to, v_n⁺ >= −e v_n⁻ (empty: f). A rough
+  /// landing's rough rows are imposed in P, and f is then the velocities after the impulse that
+  /// stops them, while v_n⁻ stays the velocity before the impact: the simultaneous rough impact.
+  Eigen::VectorXd newton_ref;
+  /// The normal row's free value: (1 + e) f_n at impulse level (f_n + e v_n⁻ with newton_ref),
+  /// f_n at acceleration level.
+  double free_normal(const Cand& k) const {
+    if (!impulse) return f[k.kn];
+    return f[k.kn] + k.e * (newton_ref.size() ? newton_ref[k.kn] : f[k.kn]);
+  }
 };
 
 /// How a problem is solved, and what the solves did over a run.
