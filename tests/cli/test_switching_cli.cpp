@@ -306,3 +306,33 @@ BOOST_AUTO_TEST_CASE(a_skidding_coin_case_rolls_from_the_closed_form_instant) {
   BOOST_TEST(std::abs(column(last, "F_bounce_x")) < 1e-12, last);
   BOOST_TEST(std::abs(column(last, "F_bounce_z") - N) < 1e-12, last);
 }
+
+// A 2-D cone's rows are checked before the run (exit 2, nothing written, the rows named): two
+// friction rows of one contact with different coefficients (the cone is isotropic), and a third
+// friction row.
+BOOST_AUTO_TEST_CASE(cone_rows_with_different_coefficients_or_three_friction_rows_exit_2) {
+  TempDir dir("switching_cli");
+  const std::string model = read(fs::path(PCSIM_SOURCE_DIR) / "models/contact/particle_plane.toml");
+  const std::string slide_y = "name = \"slide_y\"";
+  std::string diff = model;
+  const auto at = diff.find("mu_static = \"mu_s\"", diff.find(slide_y));
+  BOOST_REQUIRE(at != std::string::npos);
+  diff.replace(at, std::string("mu_static = \"mu_s\"").size(), "mu_static = \"0.5\"");
+  const std::string three = model + "\n[[model.constraint]]\nname = \"slide_z\"\nvelocity = { z = \"1\" }\n"
+                                    "friction = \"contact\"\nmu_static = \"mu_s\"\nmu_kinetic = \"mu_k\"\n";
+  struct Bad {
+    std::string text, why;
+  };
+  for (const Bad& b : {Bad{diff, "the friction constraints 'slide_x' and 'slide_y' of the unilateral constraint 'contact' "
+                                 "have different coefficients (mu_static 0.4 and 0.5"},
+                       Bad{three, "has three active friction constraints ('slide_x', 'slide_y' and 'slide_z')"}}) {
+    write_file(dir.path / "m.toml", b.text);
+    write_file(dir.path / "c.toml", "model = \"m.toml\"\n[initial]\nx = 1\nz = 250\nx_d = 1\n[contact]\nswitching = true\n"
+                                    "[solver]\nt_end = 1\n");
+    const fs::path o = dir.path / "out";
+    const Result r = pcsim("run '" + (dir.path / "c.toml").string() + "' --out '" + o.string() + "'");
+    BOOST_TEST(r.status == 2, r.out);
+    BOOST_TEST(r.out.find(b.why) != std::string::npos, r.out);
+    BOOST_TEST(!fs::exists(o));
+  }
+}
