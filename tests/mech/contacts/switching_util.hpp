@@ -31,7 +31,7 @@ inline std::vector<std::string> all_constraints(const Model& m) {
 
 struct Trace {
   std::vector<double> t;
-  std::vector<Eigen::VectorXd> q, qd, R;
+  std::vector<Eigen::VectorXd> q, qd, R, derived;  ///< derived: the model's outputs
   std::vector<std::vector<ContactMode>> modes;
 };
 
@@ -48,6 +48,7 @@ inline SwitchingResult run(const Model& m, const Eigen::VectorXd& q0, const Eige
       trace->q.push_back(s.q);
       trace->qd.push_back(s.qd);
       trace->R.push_back(s.R);
+      trace->derived.push_back(s.derived);
       trace->modes.push_back(modes);
     }
     return true;

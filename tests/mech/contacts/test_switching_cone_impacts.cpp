@@ -51,6 +51,7 @@ std::string tetrahedron_text() {
          << "\", y" << K << " = \"" << t << "y" << K << "\", z" << K << " = \"" << t << "z" << K << "\" }\nfriction = \"c"
          << K << "\"\nmu_static = \"mu" << K << "\"\n";
   }
+  os << "\n[model.outputs]\nN1 = \"lambda_c1\"\nN2 = \"lambda_c2\"\nN3 = \"lambda_c3\"\n";  // normal forces
   return os.str();
 }
 
@@ -173,4 +174,92 @@ BOOST_AUTO_TEST_CASE(impacts_with_2d_cones_never_create_energy_nor_leave_a_conta
   BOOST_TEST(refused_by[1] == 0);
   BOOST_TEST(refused < trials / 10);
   BOOST_TEST(several > 300);
+}
+
+// A tripod at rest: the tetrahedron standing on three vertices on a level floor, each with a
+// 2-D cone. Its six friction rows pose three conditions (the floor holds the body's planar
+// motion three times over): the mode decision's contact-by-contact solve converges on the
+// singular system, the dependent friction rows are implied (Huang's rank test), and the body
+// stays at rest, carrying its weight on the three normals as statics says: the apex's weight
+// split by the barycentric coordinates of its projection in the base triangle (1e-9 relative).
+namespace {
+constexpr double kTripodZ = 40.0;
+const Eigen::Vector3d kBase[3] = {{500.0, -200.0, kTripodZ}, {500.6, -200.1, kTripodZ}, {500.2, -199.5, kTripodZ}};
+const Eigen::Vector3d kApex(500.25, -199.8, kTripodZ + 0.5);
+// The tetrahedron standing on its first three vertices on the level floor z = kTripodZ, each
+// with a 2-D cone of coefficient mu along x and y; masses 0.5 kg at the base, 2 kg at the apex.
+std::shared_ptr<const Model> tripod(double mu, Eigen::VectorXd& q) {
+  static const auto desc = modelfile::load_model_text(tetrahedron_text(), "tetrahedron_on_planes.toml");
+  q.resize(12);
+  for (int i = 0; i < 3; ++i) q.segment<3>(3 * i) = kBase[i];
+  q.segment<3>(9) = kApex;
+  std::map<std::string, double> p{{"m1", 0.5}, {"m2", 0.5}, {"m3", 0.5}, {"m4", 2.0}};
+  for (int k = 1; k <= 3; ++k) {
+    const std::string K = std::to_string(k);
+    p["nz" + K] = 1.0;
+    p["ax" + K] = 1.0;
+    p["by" + K] = 1.0;
+    p["d" + K] = kTripodZ;
+    p["mu" + K] = mu;
+  }
+  return desc->instantiate(p, q, 0.0);
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_tripod_with_three_cones_stands_still_carrying_its_weight_as_statics_splits_it) {
+  const double g = 9.81;
+  Eigen::VectorXd q, qd = Eigen::VectorXd::Zero(12);
+  auto model = tripod(0.5, q);
+  const Eigen::Vector3d* base = kBase;
+  const Eigen::Vector3d& apex = kApex;
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  o.active_constraints = all_constraints(*model);
+  Trace tr;
+  const auto r = run(*model, q, qd, 1.0, o, {}, &tr);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  BOOST_TEST(r.events.empty());
+  for (int c = 0; c < 3; ++c) BOOST_TEST((tr.modes.back()[c] == ContactMode::stick));
+  BOOST_TEST((r.q_end - q).cwiseAbs().maxCoeff() < 1e-12);
+  // Statics: the base particles' own weights on their vertices, the apex's split by the
+  // barycentric coordinates of (apex_x, apex_y) in the base triangle.
+  Eigen::Matrix3d A;
+  for (int i = 0; i < 3; ++i) A.col(i) << base[i].x(), base[i].y(), 1.0;
+  const Eigen::Vector3d w = A.fullPivLu().solve(Eigen::Vector3d(apex.x(), apex.y(), 1.0));
+  const auto& names = model->derived_names();
+  for (int i = 0; i < 3; ++i) {
+    const auto at = std::find(names.begin(), names.end(), "N" + std::to_string(i + 1)) - names.begin();
+    const double N = tr.derived.back()[at];
+    const double want = 0.5 * g + w[i] * 2.0 * g;
+    BOOST_TEST_MESSAGE("vertex " << i + 1 << ": normal force " << N << " N, statics " << want << " N");
+    BOOST_TEST(std::abs(N - want) < 1e-9 * want);
+  }
+}
+
+// The tripod launched sideways slides in translation: the three cones' friction totals mu M g
+// against the motion (the normal forces shift towards the front, but their moment about the
+// vertical through the centre of mass stays zero, so it does not turn), and all three stop at
+// v0/(mu g) after v0²/(2 mu g), where the mode decision of three cones at rest, with six friction
+// rows on three conditions, makes them all stick (1e-10 relative: the translation is polynomial).
+BOOST_AUTO_TEST_CASE(a_tripod_launched_sideways_stops_with_its_three_cones_at_the_closed_form_instant) {
+  const double g = 9.81, mu = 0.3, v0 = 0.9;
+  Eigen::VectorXd q, qd = Eigen::VectorXd::Zero(12);
+  auto model = tripod(mu, q);
+  const Eigen::Vector3d dir = Eigen::Vector3d(0.6, -0.8, 0.0);
+  for (int i = 0; i < 4; ++i) qd.segment<3>(3 * i) = v0 * dir;
+  SimulationOptions o;
+  o.rtol = o.atol = 1e-10;
+  o.active_constraints = all_constraints(*model);
+  const auto r = run(*model, q, qd, 0.5, o);
+  BOOST_REQUIRE_MESSAGE(r.status == SimulationStatus::success, r.message);
+  const double ts = v0 / (mu * g), d = v0 * v0 / (2 * mu * g);
+  const auto sticks = events_of(r, ContactEventKind::stick);
+  BOOST_TEST(sticks.size() == 3u);
+  BOOST_TEST(r.events.size() == 3u);
+  for (const auto& e : sticks) BOOST_TEST(std::abs(e.t - ts) < 1e-10 * ts, e.constraint << " sticks at " << e.t);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d moved = r.q_end.segment<3>(3 * i) - q.segment<3>(3 * i);
+    BOOST_TEST((moved - d * dir).norm() < 1e-10 * d, "vertex " << i + 1 << " moved " << moved.transpose());
+  }
+  BOOST_TEST(r.qd_end.norm() < 1e-12);
 }
