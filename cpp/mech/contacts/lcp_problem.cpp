@@ -437,6 +437,12 @@ bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why) {
   std::vector<double> zeta(p.cands.size(), 0.0);
   const int max_sweeps = 2000;
   bool converged = false;
+  // Contacts that pose dependent conditions (a tripod's six friction rows on three) leave W
+  // singular: the forces along its null space are not determined and may drift from sweep to
+  // sweep while the velocities they make, u = W Λ + b, and so the motion, have settled. Either
+  // settles the iteration.
+  Eigen::VectorXd u_prev = b;
+  const double u_scale = 1.0 + b.cwiseAbs().maxCoeff();
   for (int sweep = 0; sweep < max_sweeps && !converged; ++sweep) {
     double change = 0.0, size = 0.0;
     for (std::size_t i = 0; i < p.cands.size(); ++i) {
@@ -460,11 +466,16 @@ bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why) {
         Lam[l.rows[a]] = lam[a];
       }
     }
-    converged = change <= 1e-14 * size || (p.cands.size() == 1 && sweep == 0) || size == 0.0;
+    const Eigen::VectorXd u = p.W * Lam + b;
+    const double u_change = (u - u_prev).cwiseAbs().maxCoeff();
+    u_prev = u;
+    converged = change <= 1e-14 * size || (p.cands.size() == 1 && sweep == 0) || size == 0.0 ||
+                (sweep > 0 && u_change <= 1e-14 * u_scale);
   }
   if (!converged) {
     why = "the contact forces with 2-D friction cones did not converge in 2000 Gauss-Seidel sweeps "
-          "(contacts that pose dependent conditions?)";
+          "(contacts that pose dependent conditions, wedging the body: forces that squeeze it "
+          "without moving it are not determined)";
     return false;
   }
   int nz = 0;
