@@ -133,6 +133,39 @@ bool language_function(const std::string& name) {
 
 std::string canonical(const ex& e);
 
+// A term's numeric coefficient and the rest: 3*x*y -> (3, x*y), -x -> (-1, x), 2 -> (2, 1).
+std::pair<GiNaC::numeric, ex> split_coefficient(const ex& t) {
+  if (GiNaC::is_a<GiNaC::numeric>(t)) return {GiNaC::ex_to<GiNaC::numeric>(t), ex(1)};
+  if (!GiNaC::is_a<GiNaC::mul>(t)) return {GiNaC::numeric(1), t};
+  GiNaC::numeric c = 1;
+  GiNaC::exvector rest;
+  for (std::size_t i = 0; i < t.nops(); ++i) {
+    if (GiNaC::is_a<GiNaC::numeric>(t.op(i))) c *= GiNaC::ex_to<GiNaC::numeric>(t.op(i));
+    else rest.push_back(t.op(i));
+  }
+  return {c, rest.empty() ? ex(1) : ex(GiNaC::mul(rest))};
+}
+
+// Negates the sum s (term by term, held as written) if its first term by text, coefficients
+// aside, has a negative coefficient; returns whether it did.
+bool negate_sum(ex& s) {
+  std::string first;
+  bool negative = false;
+  for (std::size_t i = 0; i < s.nops(); ++i) {
+    const auto [c, rest] = split_coefficient(s.op(i));
+    const std::string key = canonical(rest);
+    if (i == 0 || key < first) {
+      first = key;
+      negative = c.is_negative();
+    }
+  }
+  if (!negative) return false;
+  GiNaC::exvector terms;
+  for (std::size_t i = 0; i < s.nops(); ++i) terms.push_back(-s.op(i));
+  s = GiNaC::add(terms);
+  return true;
+}
+
 // A factor or a base: in parentheses unless it is an atom, a function call or a positive integer.
 std::string operand(const ex& e) {
   const std::string t = canonical(e);
@@ -160,7 +193,20 @@ std::string canonical(const ex& e) {
         c *= GiNaC::ex_to<GiNaC::numeric>(e.op(i));
         continue;
       }
-      const ex& f = e.op(i);
+      ex f = e.op(i);
+      // A sum factor's sign is GiNaC's choice too (−(A − w) or (w − A), by serial numbers): it
+      // is taken so that the sum's first term is positive, the sign moved to the coefficient
+      // (for a sum raised to an integer power, (−1)^n).
+      if (GiNaC::is_a<GiNaC::add>(f)) {
+        if (negate_sum(f)) c = -c;
+      } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::add>(f.op(0)) &&
+                 GiNaC::is_a<GiNaC::numeric>(f.op(1)) && GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_integer()) {
+        ex base = f.op(0);
+        if (negate_sum(base)) {
+          if (GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_odd()) c = -c;
+          f = GiNaC::power(base, f.op(1));
+        }
+      }
       factors.push_back(GiNaC::is_a<GiNaC::add>(f) || GiNaC::is_a<GiNaC::mul>(f) ? "(" + canonical(f) + ")"
                                                                                   : canonical(f));
     }
