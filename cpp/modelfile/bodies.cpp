@@ -1882,7 +1882,7 @@ void Expander::run() {
         if (std::find(allowed.begin(), allowed.end(), kk) == allowed.end()) {
           const auto& ck = contact_keys();  // bodies_contact.cpp
           if (std::find(ck.begin(), ck.end(), kk) != ck.end())
-            fail(key + "." + kk, "contact attributes (" + join(ck) + ") only on a joint that can lift off or slip (rolling, point_on_line; spatial: point_on_plane, wheel with no_slip = false); a '" + j.type + "' joint's rows are bilateral");
+            fail(key + "." + kk, "contact attributes (" + join(ck) + ") only on a joint that can lift off or slip (rolling, point_on_line; spatial: point_on_plane, wheel, ball); a '" + j.type + "' joint's rows are bilateral");
           fail(key + "." + kk, "unknown key (expected one of: " + join(allowed) + ")");
         }
       }

@@ -746,6 +746,60 @@ class SpatialDistance : public JointType {
   }
 };
 
+// ---- rolling contacts (wheel, ball) ----------------------------------------------------------
+// A body2 that rolls on body1 touches it at one point: the row n (the gap, a distance) and, when it
+// rolls without slip (`no_slip`, default true), the rows x, y (velocity form: the velocity of
+// body2's material point at the contact relative to body1's there, along two ORTHONORMAL tangents,
+// so that they are the sliding velocity's components in m/s and their multipliers the friction
+// force's components in N). The wheel and the ball share the reading of their contact keys and
+// these rows.
+
+// The contact keys (bodies_contact.cpp): `unilateral`, `restitution` on the row n; `mu_static`,
+// `mu_kinetic` on the no-slip rows x, y, which become the contact's two Coulomb rows. A
+// frictionless body (no_slip = false; `frictionless` names it: "frictionless disk") has no rows to
+// carry friction.
+void read_rolling_contact(Expander& x, const Joint& j, Row& n, bool no_slip, Row& rx, Row& ry,
+                          const std::string& frictionless) {
+  read_joint_contact(x, j, n, no_slip ? &rx : nullptr,
+                     "no friction on a " + j.type + " with no_slip = false: it is a " + frictionless +
+                     " (its one row " + n.name + " is the contact); drop no_slip = false to get "
+                     "Coulomb friction on its rows " + rx.name + ", " + ry.name,
+                     no_slip ? &ry : nullptr);
+}
+
+// A rolling body that can lift off (`unilateral = true` on its row n) without `mu_static`: its
+// no-slip rows are the rough rows of that contact, imposed while it is closed and released in
+// flight (the perfectly rough limit of Coulomb's law: it never slips; a landing is a rough
+// impact, docs/switching.md). With `mu_static` they are its Coulomb rows instead
+// (read_rolling_contact).
+void hold_while_closed(const Row& normal, Row& row) {
+  if (!normal.unilateral) return;
+  row.friction = normal.name;
+  row.rough = true;
+}
+
+// The no-slip rows x, y after the row n: body2's material point at the contact P has body1's
+// velocity there along the orthonormal tangents t1, t2 (body1's velocity omitted when it is
+// ground); their forces λ t are added to F (on body2, acting at P).
+void no_slip_rows(Expander& x, Joint& j, const Frames& f, const Vec3& P, const Vec3& t1, const Vec3& t2,
+                  const Row& rn, Row& rx, Row& ry, Vec3& F) {
+  LinVec3 vrel = x.point_velocity(*f.b2, P);
+  if (!f.b1->ground) {
+    const LinVec3 v1 = x.point_velocity(*f.b1, P);
+    for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
+  }
+  const Vec3* t[2] = {&t1, &t2};
+  Row* slip[2] = {&rx, &ry};
+  for (int i = 0; i < 2; ++i) {
+    Row& rt = *slip[i];
+    rt.velocity_form = true;
+    rt.velocity = dot(*t[i], vrel);
+    if (rt.friction.empty()) hold_while_closed(rn, rt);
+    j.rows.push_back(rt);
+    F = add(F, scale(lam(rt), *t[i]));
+  }
+}
+
 // A wheel (a thin disk: marker2 at its centre, marker2's z its axis, radius `radius`) rolling
 // without slip on a plane (marker1's x-y plane; normal w1). Rows: <joint>_n (holonomic: the
 // centre is r σ above the plane, σ = |w1 × a|), <joint>_x and <joint>_y (velocity form: the
@@ -803,51 +857,16 @@ class SpatialWheel : public JointType {
     if (has_contact_keys(j)) read_contact(x, j, rn, no_slip, rx, ry);
     j.rows.push_back(rn);
     Vec3 F = scale(lam(rn), n);
-    if (!no_slip) {
-      // The normal force acts at the contact point: its moment about the centre is ρ × F.
-      set_reaction(j, f, F, cross(rho, F));
-      return;
-    }
-    const Vec3 P = add(f.P2, rho);
-    LinVec3 vrel = x.point_velocity(*f.b2, P);
-    if (!f.b1->ground) {
-      const LinVec3 v1 = x.point_velocity(*f.b1, P);
-      for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
-    }
     // Along u1 and v1: orthonormal tangents of the plane (marker1's axes), so x, y are the
     // contact point's sliding velocity components in m/s (an isotropic Coulomb cone).
-    Row* slip[2] = {&rx, &ry};
-    for (int i = 0; i < 2; ++i) {
-      Row& rt = *slip[i];
-      rt.velocity_form = true;
-      rt.velocity = dot(column(f.E1, i), vrel);
-      if (rt.friction.empty()) hold_while_closed(rn, rt);
-      j.rows.push_back(rt);
-      F = add(F, scale(lam(rt), column(f.E1, i)));
-    }
+    if (no_slip) no_slip_rows(x, j, f, add(f.P2, rho), column(f.E1, 0), column(f.E1, 1), rn, rx, ry, F);
     // The force acts at the contact point: its moment about the wheel's centre is ρ × F.
     set_reaction(j, f, F, cross(rho, F));
   }
 
  private:
-  // The contact keys (bodies_contact.cpp): `unilateral`, `restitution` on the row n; `mu_static`,
-  // `mu_kinetic` on the no-slip rows x, y, which become the contact's two Coulomb rows. A
-  // frictionless disk (no_slip = false) has no rows to carry friction.
   static void read_contact(Expander& x, const Joint& j, Row& n, bool no_slip, Row& rx, Row& ry) {
-    read_joint_contact(x, j, n, no_slip ? &rx : nullptr,
-                       "no friction on a wheel with no_slip = false: it is a frictionless disk "
-                       "(its one row " + n.name + " is the contact); drop no_slip = false to get "
-                       "Coulomb friction on its rows " + rx.name + ", " + ry.name,
-                       no_slip ? &ry : nullptr);
-  }
-  // A rolling wheel that can lift off (`unilateral = true` on its row n) without `mu_static`: its
-  // no-slip rows are the rough rows of that contact, imposed while it is closed and released in
-  // flight (the perfectly rough limit of Coulomb's law: it never slips; a landing is a rough
-  // impact, docs/switching.md). With `mu_static` they are its Coulomb rows instead (read_contact).
-  static void hold_while_closed(const Row& normal, Row& row) {
-    if (!normal.unilateral) return;
-    row.friction = normal.name;
-    row.rough = true;
+    read_rolling_contact(x, j, n, no_slip, rx, ry, "frictionless disk");
   }
   // On a sphere of body1 (centre marker1, radius R), outside (default) or inside (`inside =
   // true`, a wheel in a spherical bowl). With d = C − S (the wheel's centre from the sphere's)
@@ -909,23 +928,50 @@ class SpatialWheel : public JointType {
       for (int i = 0; i < 3; ++i) t1[i] = x.define(pre + "t1" + "xyz"[i], paren(c1[i]) + "/" + paren(r), j.key);
       const Vec3 c2 = cross(nu, t1);
       for (int i = 0; i < 3; ++i) t2[i] = x.define(pre + "t2" + "xyz"[i], c2[i], j.key);
-      const Vec3 P = add(f.P2, rho);
-      LinVec3 vrel = x.point_velocity(*f.b2, P);
-      if (!f.b1->ground) {
-        const LinVec3 v1 = x.point_velocity(*f.b1, P);
-        for (int i = 0; i < 3; ++i) vrel[i] = add(vrel[i], scale("-1", v1[i]));
-      }
-      const Vec3* t[2] = {&t1, &t2};
-      Row* slip[2] = {&rx, &ry};
-      for (int i = 0; i < 2; ++i) {
-        Row& rt = *slip[i];
-        rt.velocity_form = true;
-        rt.velocity = dot(*t[i], vrel);
-        if (rt.friction.empty()) hold_while_closed(rn, rt);
-        j.rows.push_back(rt);
-        F = add(F, scale(lam(rt), *t[i]));
-      }
+      no_slip_rows(x, j, f, add(f.P2, rho), t1, t2, rn, rx, ry, F);
     }
+    set_reaction(j, f, F, cross(rho, F));
+  }
+};
+
+// A ball (a rigid sphere of radius `radius` centred at marker2; marker2's axes do not enter)
+// on a plane (marker1's x-y plane, on its +w1 side). Rows: <joint>_n (holonomic: (P2 − P1)·w1 − R,
+// the centre's height above the plane minus the radius: a distance, its multiplier the normal
+// force in N); <joint>_x, <joint>_y (velocity form: the ball's material point at the contact
+// C = P2 + ρ, ρ = −R w1, has body1's velocity there along u1, v1: u1·(v_P2 + ω2 × ρ − v_B1(C)),
+// v1·(...); orthonormal tangents, so their multipliers are the friction force's components in N).
+// `no_slip = false` keeps the row n only: a frictionless ball (it slides and spins freely).
+// Contact keys as on the wheel (read_rolling_contact): `unilateral`, `restitution` on the row n;
+// the no-slip rows are then rough rows, or with `mu_static` (`mu_kinetic`) the contact's two
+// Coulomb rows (a 2-D cone; refused on a frictionless ball). Reaction on the ball, in the joint
+// frame: F = λ_x u1 + λ_y v1 + λ_n w1 acting at C, and its moment about the centre (marker2),
+// ρ × F. A ball has no singular pose (the contact point is always −R w1 from the centre).
+class SpatialBall : public JointType {
+ public:
+  std::string name() const override { return "ball"; }
+  std::vector<std::string> extra_keys() const override {
+    std::vector<std::string> k{"radius", "no_slip"};
+    for (const auto& c : contact_keys()) k.push_back(c);
+    return k;
+  }
+  void rows(Expander& x, Joint& j) const override {
+    bool no_slip = true;
+    if (const toml::node* ns = j.table->get("no_slip")) no_slip = x.boolean(*ns, j.key + ".no_slip");
+    const Frames f = frames(x, j);
+    const Expr R = x.required(*j.table, j.key, "radius", "the ball's radius (an expression)");
+    const Vec3 n = column(f.E1, 2);
+    const std::string pre = j.name + "_";
+    Vec3 rho;  // from the centre to the contact point, −R w1 (named: drawings use it)
+    for (int i = 0; i < 3; ++i) rho[i] = x.define(pre + "rho" + "xyz"[i], neg(mul(R, n[i])), j.key);
+    Row rn, rx, ry;
+    rn.name = pre + "n";
+    rn.holonomic = sub(dot(n, f.d), R);
+    rx.name = pre + "x";
+    ry.name = pre + "y";
+    if (has_contact_keys(j)) read_rolling_contact(x, j, rn, no_slip, rx, ry, "frictionless ball");
+    j.rows.push_back(rn);
+    Vec3 F = scale(lam(rn), n);
+    if (no_slip) no_slip_rows(x, j, f, add(f.P2, rho), column(f.E1, 0), column(f.E1, 1), rn, rx, ry, F);
     set_reaction(j, f, F, cross(rho, F));
   }
 };
@@ -983,6 +1029,7 @@ void register_spatial_bodies() {
   register_joint_type(std::make_shared<SpatialPointOnPlane>());
   register_spatial_joint_type(std::make_shared<SpatialUniversal>());
   register_joint_type(std::make_shared<SpatialWheel>());
+  register_joint_type(std::make_shared<SpatialBall>());
   register_spatial_joint_type(std::make_shared<SpatialRevolute>());
   register_spatial_joint_type(std::make_shared<SpatialPrismatic>());
   register_spatial_joint_type(std::make_shared<SpatialPair<true, true, true, true, true>>("fixed"));

@@ -360,3 +360,36 @@ body2 = "s"
     BOOST_TEST(found, c);
   }
 }
+
+// The spatial `ball` joint (a sphere on a plane, docs/bodies-spatial.md "Joints"): the wheel's
+// contact keys with the wheel's rules (shared code), each refusal naming the key.
+BOOST_AUTO_TEST_CASE(ball_joint_bad_keys_are_refused_naming_the_key) {
+  const std::string ball = kSpatial + "[model.joint.b]\ntype = \"ball\"\nmarker1 = \"floor\"\nbody2 = \"s\"\n";
+  const std::string rolling = ball + "radius = 0.3\n";
+  BOOST_CHECK_EQUAL(error_of(rolling), "");
+  BOOST_CHECK_EQUAL(error_of(rolling + "unilateral = true\nrestitution = 0.5\n"), "");
+  BOOST_CHECK_EQUAL(error_of(rolling + "unilateral = true\nrestitution = 0.5\nmu_static = 0.3\nmu_kinetic = 0.2\n"), "");
+  BOOST_CHECK_EQUAL(error_of(rolling + "no_slip = false\nunilateral = true\nrestitution = 0.5\n"), "");
+  // The radius is required.
+  expect_error(ball, {"m.toml", "model.joint.b.radius", "the ball's radius"});
+  expect_error(ball + "unilateral = true\n", {"m.toml", "model.joint.b.radius", "the ball's radius"});
+  // Unknown keys, the wheel's own among them (a ball rolls on a plane only).
+  expect_error(rolling + "surface = \"sphere\"\n",
+               {"m.toml", "model.joint.b.surface", "unknown key", "radius", "no_slip", "unilateral", "mu_kinetic"});
+  expect_error(rolling + "sphere_radius = 1.0\n", {"model.joint.b.sphere_radius", "unknown key"});
+  expect_error(rolling + "unilateral = true\nfriction = \"b_n\"\n", {"model.joint.b.friction", "unknown key"});
+  // Friction and restitution need a gap that can open.
+  expect_error(rolling + "mu_static = 0.3\n", {"m.toml", "model.joint.b.mu_static", "only with unilateral = true"});
+  expect_error(rolling + "mu_static = 0.3\nmu_kinetic = 0.2\n", {"model.joint.b.mu_static", "only with unilateral = true"});
+  expect_error(rolling + "restitution = 0.5\n", {"model.joint.b.restitution", "only with unilateral = true"});
+  expect_error(rolling + "unilateral = true\nmu_kinetic = 0.2\n", {"model.joint.b.mu_kinetic", "only with mu_static"});
+  // A frictionless ball (no_slip = false) has no rows to carry friction.
+  expect_error(rolling + "no_slip = false\nunilateral = true\nmu_static = 0.3\n",
+               {"m.toml", "model.joint.b.mu_static", "no_slip = false", "frictionless ball",
+                "drop no_slip = false to get Coulomb friction on its rows b_x, b_y"});
+  // Coefficients in range; no_slip a boolean.
+  expect_error(rolling + "unilateral = true\nmu_static = 0.3\nmu_kinetic = 0.4\n",
+               {"model.joint.b.mu_kinetic", "a kinetic friction coefficient in [0, mu_static = 0.3]", "0.4"});
+  expect_error(rolling + "unilateral = true\nrestitution = 1.5\n", {"model.joint.b.restitution", "[0, 1]"});
+  expect_error(rolling + "no_slip = 1\n", {"model.joint.b.no_slip"});
+}

@@ -18,6 +18,9 @@
 // - the 2-D Coulomb cone's rows (a point_on_plane with mu_static, on ground and on a moving
 //   body; a rolling wheel with mu_static, on a plane and on a sphere) are the contact's two
 //   Coulomb rows and equal the closed-form sliding velocity along orthonormal tangents;
+// - the ball joint's rows (a sphere on a plane, on ground and on a tumbling deck) equal their
+//   definition computed with Eigen, its reaction acts at the contact point; a ball rolling on a
+//   driven turntable circles at 2/7 of the table's rate (the closed form dv/dt = (2/7) Omega z x v);
 // - inertia tensors that are not symmetric or not positive definite are rejected naming the key;
 // - the Whipple bicycle as bodies (models/whipple_bodies.toml) conserves energy in a nonlinear
 //   run and, between its weave and capsize speeds, rights itself after a push in roll, while
@@ -1905,4 +1908,256 @@ BOOST_AUTO_TEST_CASE(wheel_friction_rows_are_the_contact_points_sliding_velocity
       BOOST_TEST(ortho < 1e-14);
     }
   }
+}
+
+// ---- the ball joint (a sphere on a plane) ---------------------------------------------------
+
+namespace {
+
+// A ball on a tumbling deck: the plane's marker off the deck's origin and turned about a skew
+// axis; the ball's centre (marker2) off the ball body's origin and turned too (marker2's axes do
+// not enter a ball's rows). Bilateral: no contact keys.
+const char* kBallOnDeck = R"(
+[model]
+name = "ball_on_deck"
+[model.body.deck]
+kind = "spatial"
+mass = 5.0
+inertia = [0.4, 0.5, 0.6]
+markers.plane = { at = [0.3, -0.2, 0.1], axis = [1, 2, 3], angle = 0.7 }
+[model.body.ball]
+kind = "spatial"
+mass = 0.3
+inertia = [2e-4, 2e-4, 2e-4]
+markers.centre = { at = [0.01, 0.02, -0.01], axis = [0, 1, 1], angle = -0.4 }
+[model.joint.roll]
+type = "ball"
+body1 = "deck"
+marker1 = "plane"
+body2 = "ball"
+marker2 = "centre"
+radius = 0.04
+)";
+
+// The same ball on ground's plane, its marker at (X0, Y0, Z0) turned by 0.5 rad about (1, -2, 2),
+// a contact with the 2-D cone (mu_s = 0.4, mu_k = 0.3).
+const char* kBallOnGround = R"(
+[model]
+name = "ball_on_ground"
+[model.parameters]
+X0 = 400.0
+Y0 = -300.0
+Z0 = 120.0
+[model.body.ground.markers]
+plane = { at = ["X0", "Y0", "Z0"], axis = [1, -2, 2], angle = 0.5 }
+[model.body.ball]
+kind = "spatial"
+mass = 0.3
+inertia = [2e-4, 2e-4, 2e-4]
+markers.centre = { at = [0.01, 0.02, -0.01], axis = [0, 1, 1], angle = -0.4 }
+[model.joint.roll]
+type = "ball"
+marker1 = "plane"
+body2 = "ball"
+marker2 = "centre"
+radius = 0.04
+unilateral = true
+restitution = 0.5
+mu_static = 0.4
+mu_kinetic = 0.3
+)";
+
+}  // namespace
+
+// The ball joint's rows (docs/bodies-spatial.md "Joints") against their definition computed here
+// with Eigen from the coordinates alone, at 20 random states each, for a ball on ground's plane
+// (turned about a skew axis, 500 m from the origin, with mu_static: rows x, y are the contact's
+// two Coulomb rows) and on a tumbling deck (bilateral): with U = A1 R1 (u1, v1, w1 its columns),
+// P1 = r1 + A1 p1, P2 = r2 + A2 p2 (the centre) and C = P2 - R w1 (the contact point),
+//   n = (P2 - P1).w1 - R,  x = u1.(v_C - v_B1(C)),  y = v1.(v_C - v_B1(C)),
+// v_C = r2_d + w2 x (C - r2) (the ball's material point at C), v_B1(C) = r1_d + w1 x (C - r1)
+// (body1's; 0 on ground), w = 2 E(e) e_d. Also the n row's rate g q_d against
+// d/dt n = (v_P2 - v_P1).w1 + (P2 - P1).(w_1 x w1), and the reaction from random multipliers:
+// F_roll = (lambda_x, lambda_y, lambda_n) (joint frame) acting at C, so M_roll (about the centre)
+// = (-R e_z) x F = (R lambda_y, -R lambda_x, 0). Tolerances: positions ~500 m from the origin
+// carry a rounding of 500 * 1.1e-16 = 6e-14 m, which the gap row sees directly (1e-12 m) and the
+// velocity rows through |w| <= 4 rad/s and the axes (1e-12 of the velocities' scale); the
+// reaction is a product of the multipliers with exact axes, to 1e-14 of |lambda|.
+// Without mu_static a unilateral ball's rows x, y are rough rows (as the wheel's).
+BOOST_AUTO_TEST_CASE(ball_rows_are_the_gap_and_the_contact_points_sliding_velocity_along_the_planes_axes) {
+  {
+    std::string text = kBallOnGround;
+    text.replace(text.find("mu_static = 0.4\n"), 16, "");
+    text.replace(text.find("mu_kinetic = 0.3\n"), 17, "");
+    const auto rough = load_model_text(text, "ball_rough.toml")->instantiate({});
+    for (const char* r : {"roll_x", "roll_y"}) {
+      const auto& c = rough->constraints()[rough->constraint_index(r)].contact;
+      BOOST_TEST((c.is_friction() && c.rough && !c.is_coulomb()), r);
+    }
+  }
+  const double R = 0.04;
+  for (const bool deck : {false, true}) {
+    BOOST_TEST_CONTEXT((deck ? "on a tumbling deck" : "on ground's plane")) {
+      const Vector3d X0(400.0, -300.0, 120.0);
+      const auto desc = load_model_text(deck ? kBallOnDeck : kBallOnGround, deck ? "ball_on_deck.toml" : "ball_on_ground.toml");
+      const auto model = desc->instantiate({});
+      if (!deck) {
+        expect_coulomb_pair(*model, "roll_n", "roll_x", "roll_y", 0.4, 0.3);
+        BOOST_TEST(model->constraints()[model->constraint_index("roll_n")].contact.restitution == 0.5);
+      } else {
+        for (const char* r : {"roll_n", "roll_x", "roll_y"}) {
+          const auto& c = model->constraints()[model->constraint_index(r)].contact;
+          BOOST_TEST((!c.unilateral && !c.is_friction()), r);
+        }
+      }
+      const auto& names = model->coordinates();
+      const int ib = name_index(names, "ball_x"), id = deck ? name_index(names, "deck_x") : -1;
+      const Vector3d p1 = deck ? Vector3d(0.3, -0.2, 0.1) : Vector3d::Zero();
+      const Matrix3d R1 = deck ? Matrix3d(Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()))
+                               : Matrix3d(Eigen::AngleAxisd(0.5, Vector3d(1, -2, 2).normalized()));
+      const Vector3d p2(0.01, 0.02, -0.01);
+      const int in = model->constraint_index("roll_n");
+      const std::vector<int> rows = indices(*model, {"roll_n", "roll_x", "roll_y"});
+      std::mt19937 rng(deck ? 45 : 44);
+      double worst_gap = 0, worst_rate = 0, worst = 0, worst_F = 0;
+      for (int k = 0; k < 20; ++k) {
+        Eigen::VectorXd q = Eigen::VectorXd::Zero(model->n()), qd = q;
+        Vector3d r1 = X0, v1 = Vector3d::Zero(), w1 = Vector3d::Zero();
+        Matrix3d A1 = Matrix3d::Identity();
+        if (deck) {
+          random_body(rng, X0, 0.5, id, q, qd);
+          r1 = q.segment<3>(id);
+          A1 = A_of(q.segment<4>(id + 3));
+          w1 = 2 * E_of(q.segment<4>(id + 3)) * qd.segment<4>(id + 3);
+          v1 = qd.segment<3>(id);
+        }
+        const Matrix3d U = A1 * R1;
+        const Vector3d P1 = r1 + A1 * p1, n = U.col(2);
+        random_body(rng, P1 + R * n, 0.1, ib, q, qd);
+        const Vector3d r2 = q.segment<3>(ib);
+        const Matrix3d A2 = A_of(q.segment<4>(ib + 3));
+        const Vector3d w2 = 2 * E_of(q.segment<4>(ib + 3)) * qd.segment<4>(ib + 3);
+        const Vector3d P2 = r2 + A2 * p2, C = P2 - R * n;
+        const Vector3d vP2 = qd.segment<3>(ib) + w2.cross(A2 * p2), vP1 = v1 + w1.cross(P1 - r1);
+        const Vector3d vC = qd.segment<3>(ib) + w2.cross(C - r2);
+        const Vector3d vB1 = v1 + w1.cross(C - r1);  // body1's material point at C
+        worst_gap = std::max(worst_gap, std::abs(model->position_residual(in, 0.3, q) - ((P2 - P1).dot(n) - R)));
+        const Eigen::VectorXd got = row_values(*model, rows, q, qd);
+        const double rate = (vP2 - vP1).dot(n) + (P2 - P1).dot(w1.cross(n));
+        const double scale = vP2.norm() + vP1.norm() + vC.norm() + vB1.norm();
+        worst_rate = std::max(worst_rate, std::abs(got[0] - rate) / scale);
+        const Eigen::Vector2d expected(U.col(0).dot(vC - vB1), U.col(1).dot(vC - vB1));
+        worst = std::max(worst, (got.tail<2>() - expected).cwiseAbs().maxCoeff() / scale);
+        // The reaction in the joint frame, from random multipliers of every row.
+        const std::vector<int> all = all_rows(*model);
+        Eigen::VectorXd lambda(static_cast<Eigen::Index>(all.size())), out;
+        for (auto& l : lambda) l = 10.0 * uniform(rng);
+        const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model->n());
+        model->derived_with_multipliers(0.3, q, qd, zero, zero, all, lambda, out);
+        auto column = [&](const std::string& c) { return out[name_index(model->derived_names(), c)]; };
+        auto lambda_of = [&](const std::string& r) { return lambda[model->constraint_index(r)]; };
+        const double lx = lambda_of("roll_x"), ly = lambda_of("roll_y"), ln = lambda_of("roll_n");
+        for (double d : {column("F_roll_x") - lx, column("F_roll_y") - ly, column("F_roll_z") - ln,
+                         column("M_roll_x") - R * ly, column("M_roll_y") + R * lx, column("M_roll_z")})
+          worst_F = std::max(worst_F, std::abs(d) / 10.0);
+      }
+      BOOST_TEST_MESSAGE((deck ? "deck" : "ground") << ": gap row " << worst_gap << " m, its rate " << worst_rate
+                         << " and the x, y rows " << worst << " of |v| against the closed form; reaction "
+                         << worst_F << " of |lambda|");
+      BOOST_TEST(worst_gap < 1e-12);
+      BOOST_TEST(worst_rate < 1e-12);
+      BOOST_TEST(worst < 1e-12);
+      BOOST_TEST(worst_F < 1e-14);
+    }
+  }
+}
+
+// A homogeneous ball (J = 2/5 m R^2) rolling without slip on a turntable spun at a constant
+// Omega about ground z (models/ball_turntable_bodies.toml: a revolute tree joint driven by
+// th = Omega t; the ball joint bilateral; the table's axis at (400, -300, 120) m).
+// The closed form: with F the table's horizontal force on the ball at the contact (-R z from the
+// centre; the normal force m g balances gravity, the centre staying at the height R),
+//   m dv/dt = F,   J dw/dt = (-R z) x F,
+// and no slip, v + w x (-R z) = Omega z x r (r the centre's horizontal position from the axis,
+// the contact point's too). Differentiating the last, with dr/dt = v and
+// (dw/dt) x (-R z) = (R^2 / J) F for a horizontal F:
+//   dv/dt (1 + m R^2 / J) = Omega z x v,   so   dv/dt = (2/7) Omega z x v.
+// v turns at w_c = (2/7) Omega at constant speed: the centre runs round a circle at w_c, centred
+// at c = r0 + z x v0 / w_c, radius |v0| / w_c. The spin follows from no slip,
+// w_h = (Omega r + z x v) / R, and w_z is constant (the contact force's moment about the centre
+// is horizontal); the friction force is m w_c z x v, magnitude m w_c |v|. Its kinetic energy is
+// not conserved (the drive does work on the table), so the check is the trajectory itself and
+// the closed-form invariant |r - c| = |v0| / w_c.
+// Omega = 7 rad/s (w_c = 2 rad/s) from r0 = (0.3, 0, 0) m, v0 = (0, 0.2, 0) m/s, w_z = 5 rad/s,
+// over three turns of the centre (3 pi s; the table turns 10.5 times), rtol 1e-10: the centre to
+// 1e-8 m (the integration's accuracy accumulated over 3 pi s: measured in the test's message),
+// |r - c| to 1e-8 m, w to 2e-6 rad/s (of 38: w_h = (Omega r + z x v) / R carries the centre's
+// error times Omega / R = 140 /s), the reaction (F_roll in the table's axes, the joint frame, and
+// M_roll = (-R z) x F about the centre) to 1e-8 N and 1e-9 N m (of 0.08 N, 4e-3 N m), the normal
+// force m g to 1e-9 N. Measured (Release): centre 2.4e-9 m, w 3.5e-7 rad/s, F 5.9e-9 N.
+BOOST_AUTO_TEST_CASE(ball_on_a_turntable_circles_at_two_sevenths_of_the_tables_rate) {
+  const double m = 0.2, R = 0.05, g = 9.81, Omega = 7.0, wc = 2.0 / 7.0 * Omega, wz = 5.0;
+  const Vector3d X0(400.0, -300.0, 120.0), r0(0.3, 0.0, 0.0), v0(0.0, 0.2, 0.0), z = Vector3d::UnitZ();
+  const Vector3d c = r0 + z.cross(v0) / wc;  // the circle's centre, from the axis
+  const double radius = v0.norm() / wc;
+  const auto desc = load_model_file(model_path("ball_turntable_bodies.toml"));
+  const auto& names = desc->coordinates();
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<int>(names.size())), qd = q;
+  const int ith = name_index(names, "th"), ib = name_index(names, "ball_x");
+  const Vector4d e0(1, 0, 0, 0);
+  const Vector3d w0 = (Omega * r0 + z.cross(v0)) / R + wz * z;
+  q.segment<3>(ib) = X0 + r0 + R * z;
+  q.segment<4>(ib + 3) = e0;
+  qd[ith] = Omega;
+  qd.segment<3>(ib) = v0;
+  qd.segment<4>(ib + 3) = 0.5 * E_of(e0).transpose() * w0;
+  const auto model = desc->instantiate({}, q);
+  const int iF = output_index(*desc, "F_roll_x"), iM = output_index(*desc, "M_roll_x"), iN = output_index(*desc, "normal");
+  const double T = 3 * 2 * M_PI / wc, dt = 0.05;
+  mech::SimulationOptions o;
+  o.t_end = T;
+  o.rtol = 1e-10;
+  o.atol = 1e-12;
+  o.kernel = Kernel::cpp;
+  o.active_constraints = all_names(*model);
+  double err_x = 0, err_z = 0, err_circle = 0, err_w = 0, err_F = 0, err_M = 0, err_N = 0, turned = 0;
+  int next = 0;
+  const auto r = mech::simulate(*model, q, qd, o, [&](const mech::StepView& v) {
+    while (next * dt <= v.t + 1e-12) {
+      const mech::Sample s = v.sample(std::max(v.t_prev, next * dt));
+      const double t = s.t;
+      const Matrix3d Rc = Eigen::AngleAxisd(wc * t, z).toRotationMatrix();
+      const Vector3d rel = Rc * (r0 - c), rt = c + rel, vt = wc * z.cross(rel);
+      const Vector3d x = s.q.segment<3>(ib) - X0;
+      err_x = std::max(err_x, (x.head<2>() - rt.head<2>()).cwiseAbs().maxCoeff());
+      err_z = std::max(err_z, std::abs(x[2] - R));
+      err_circle = std::max(err_circle, std::abs((x - c).head<2>().norm() - radius));
+      const Vector3d w = 2 * E_of(s.q.segment<4>(ib + 3)) * s.qd.segment<4>(ib + 3);
+      err_w = std::max(err_w, (w - ((Omega * rt + z.cross(vt)) / R + wz * z)).cwiseAbs().maxCoeff());
+      // The table's force on the ball, in the table's axes (turned by th = Omega t), and its
+      // moment about the centre.
+      const Matrix3d Rt = Eigen::AngleAxisd(Omega * t, z).toRotationMatrix();
+      const Vector3d F = Rt.transpose() * (m * wc * z.cross(vt) + m * g * z);
+      const Vector3d M = (-R * z).cross(F);
+      err_F = std::max(err_F, (s.derived.segment<3>(iF) - F).cwiseAbs().maxCoeff());
+      err_M = std::max(err_M, (s.derived.segment<3>(iM) - M).cwiseAbs().maxCoeff());
+      err_N = std::max(err_N, std::abs(s.derived[iN] - m * g));
+      turned = wc * t;
+      ++next;
+    }
+    return true;
+  });
+  BOOST_REQUIRE(r.status == mech::SimulationStatus::success);
+  BOOST_TEST_MESSAGE("ball on a turntable over " << turned / (2 * M_PI) << " turns of its centre: centre "
+                     << err_x << " m (height " << err_z << " m), |r - c| - |v0|/w_c " << err_circle
+                     << " m, w " << err_w << " rad/s, F_roll " << err_F << " N, M_roll " << err_M
+                     << " N m, normal " << err_N << " N");
+  BOOST_TEST(turned > 3 * 2 * M_PI - 0.1);
+  BOOST_TEST(err_x < 1e-8);
+  BOOST_TEST(err_z < 1e-11);
+  BOOST_TEST(err_circle < 1e-8);
+  BOOST_TEST(err_w < 2e-6);
+  BOOST_TEST(err_F < 1e-8);
+  BOOST_TEST(err_M < 1e-9);
+  BOOST_TEST(err_N < 1e-9);
 }
