@@ -4,6 +4,9 @@
 // bytes (checked here on every row, and tests/common/test_format checks round trip and shortness).
 // Data: rows shaped as the sieve's (22 columns: a time on a 1e-3 grid, zeros, a constant, and
 // smooth signals of magnitudes 1e-19..1e2), and numbers uniform in their bits' logarithm.
+// Then the binary form of output.format = "npy" (issue 23): each number's 8 bytes appended (what
+// the writer does then), and the whole writer (sim::RowWriter on its thread, into a file in the
+// temporary directory, closed with its fsync) for both formats, CSV against NPY.
 // Usage: bench_format [--verify N]   (N random doubles checked against std::to_chars, no timing)
 #include <charconv>
 #include <cmath>
@@ -14,8 +17,16 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+
 #include "bench_timing.hpp"
+#include "common/files.hpp"
 #include "common/format.hpp"
+#include "sim/row_writer.hpp"
 
 namespace {
 
@@ -66,6 +77,38 @@ void new_rows(const std::vector<double>& v, std::string& text) {
   }
 }
 
+void npy_rows(const std::vector<double>& v, std::string& bytes) {
+  bytes.clear();
+  for (std::size_t i = 0; i < v.size(); i += kColumns)
+    bytes.append(reinterpret_cast<const char*>(v.data() + i), kColumns * sizeof(double));
+}
+
+// The whole writer: rows handed to sim::RowWriter, formatted (or copied) on its thread, written
+// to a file and fsynced by finish(). Wall seconds, best of `repeats`.
+double writer_seconds(const std::vector<double>& v, bool npy, int repeats) {
+  const std::filesystem::path f = std::filesystem::temp_directory_path() /
+                                  ("pcsim_bench_writer_" + std::to_string(::getpid()) + (npy ? ".npy" : ".csv"));
+  double best = 1e300;
+  for (int r = 0; r < repeats; ++r) {
+    const int fd = ::open(f.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return -1.0;
+    pcsim::OutputStream out(fd, f);
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+      std::vector<std::string> names;
+      for (int j = 0; j < kColumns; ++j) names.push_back("c" + std::to_string(j));
+      auto w = npy ? std::make_unique<pcsim::sim::RowWriter>(out, kColumns, 0, std::vector<std::string>{},
+                                                             pcsim::sim::RowWriter::Npy{names})
+                   : std::make_unique<pcsim::sim::RowWriter>(out, kColumns);
+      for (std::size_t i = 0; i < v.size(); i += kColumns) w->add(v.data() + i);
+      w->finish();
+    }
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::filesystem::remove(f);
+  return best;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -102,6 +145,14 @@ int main(int argc, char** argv) {
   std::printf("  old (std::to_chars, append per field): %.2f ms  %.1f ns/number\n", 1e3 * t_old, 1e9 * t_old / n);
   std::printf("  new (write_number, append per row):    %.2f ms  %.1f ns/number\n", 1e3 * t_new, 1e9 * t_new / n);
   std::printf("  ratio old/new: %.2f\n", t_old / t_new);
+  std::string c;
+  const double t_npy = pcsim_bench::seconds_per_call([&] { npy_rows(rows, c); }, 5, 1);
+  std::printf("  npy (8 bytes per number, append per row): %.2f ms  %.2f ns/number  (%zu bytes)\n", 1e3 * t_npy,
+              1e9 * t_npy / n, c.size());
+  std::printf("  ratio new (csv) / npy: %.1f\n", t_new / t_npy);
+  const double w_csv = writer_seconds(rows, false, 5), w_npy = writer_seconds(rows, true, 5);
+  std::printf("the whole writer (thread, file, fsync), wall, best of 5: csv %.2f ms, npy %.2f ms, ratio %.1f\n",
+              1e3 * w_csv, 1e3 * w_npy, w_csv / w_npy);
 
   std::vector<double> random(200000);
   std::mt19937_64 rng(7);

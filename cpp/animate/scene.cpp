@@ -172,6 +172,9 @@ Scene read_scene(const fs::path& dir, int max_frames) {
   }
 
   const fs::path csv = dir / "timeseries.csv";
+  if (!fs::exists(csv) && fs::exists(dir / "timeseries.npy"))
+    throw InputError(d + ": the run wrote timeseries.npy (output.format = \"npy\"), and pcsim animate "
+                     "reads timeseries.csv: run it with output.format = \"csv\" (the default) to animate it");
   const Table table = read_table(csv, rerun);
   std::map<std::string, int> col;
   for (std::size_t i = 0; i < table.header.size(); ++i) col[table.header[i]] = static_cast<int>(i);

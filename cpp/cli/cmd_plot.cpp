@@ -119,6 +119,10 @@ void plot_run(const std::string& dir_text) {
                  steady_sum = dir / "steady.json";
   const bool steady = !fs::exists(run_sum) && fs::exists(steady_sum);
   const fs::path sum = steady ? steady_sum : run_sum;
+  if (!fs::exists(csv) && fs::exists(dir / "timeseries.npy"))
+    throw pcsim::InputError(dir_text + ": the run wrote timeseries.npy (output.format = \"npy\"), and "
+                                       "pcsim plot reads timeseries.csv: run it with output.format = "
+                                       "\"csv\" (the default) to plot it, or load the .npy with numpy.load");
   if (!fs::exists(csv) || !fs::exists(sum))
     throw pcsim::InputError(dir_text + ": expected the output of `pcsim run` (timeseries.csv "
                                        "and summary.json), `pcsim steady` (timeseries.csv and "

@@ -211,7 +211,7 @@ bool pcsim_writes(const std::string& command, const std::string& name) {
                     // the model it ran, and pcsim animate's page and video (issue 26)
                     name == "model.toml" || name == "animation.html" || name == "animation.mp4" ||
                     name == "animation.gif";
-  if (command == "run") return plot || one_of({"summary.json", "timeseries.csv", "events.csv"});
+  if (command == "run") return plot || one_of({"summary.json", "timeseries.csv", "timeseries.npy", "events.csv"});
   if (command == "steady") return plot || one_of({"steady.json", "timeseries.csv", "events.csv"});
   if (command == "response") return plot || one_of({"response.csv", "response.json"});
   if (command == "modes")
@@ -382,6 +382,20 @@ void OutputStream::flush() {
   ::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE);
 #endif
   buffer_.clear();
+}
+
+void OutputStream::rewrite(std::size_t offset, const std::string& bytes) {
+  if (fd_ < 0) return;
+  flush();
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t w = ::pwrite(fd_, bytes.data() + done, bytes.size() - done, static_cast<off_t>(offset + done));
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      throw IoError(errno_message("cannot write", path_));
+    }
+    done += static_cast<std::size_t>(w);
+  }
 }
 
 void OutputStream::close() {

@@ -105,6 +105,9 @@ class OutputStream {
     if (buffer_.size() >= (1u << 20)) flush();
   }
   void flush();
+  /// Flushes, then overwrites `bytes` at `offset` of the file (a header whose counts are known
+  /// only at the end); throws IoError.
+  void rewrite(std::size_t offset, const std::string& bytes);
   /// Flushes, fsyncs and closes; throws IoError naming the file and the reason.
   void close();
 

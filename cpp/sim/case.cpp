@@ -840,6 +840,7 @@ Setup setup_of(const Case& c) {
   s.h0 = number_of(t, "solver.h0");
   s.max_steps = static_cast<long>(number_of(t, "solver.max_steps"));
   s.dt = number_of(t, "output.dt");
+  s.npy = string_of(t, "output.format") == "npy";
   s.equilibrium_start = string_of(t, "initial.from") == "equilibrium";
   s.period = m.period(s.parameters);
   if (auto k = t["output"]["summary_periods"].value<int64_t>()) {

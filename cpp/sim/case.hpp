@@ -45,6 +45,7 @@ struct Setup {
   double rtol{}, atol{}, t_end{}, h0{};  ///< solver.rtol, .atol, .t_end (s), .h0 (s)
   long max_steps{};                     ///< solver.max_steps
   double dt{};                          ///< output.dt: the time-series interval, s
+  bool npy{};                           ///< output.format = "npy": timeseries.npy, not .csv
   /// initial.from = "equilibrium": the run starts from the static equilibrium (run_case solves
   /// it from q0, slow coordinates held; docs/steady.md) instead of (q0, qd0).
   bool equilibrium_start{};

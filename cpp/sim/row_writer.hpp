@@ -17,6 +17,14 @@
 
 namespace pcsim::sim {
 
+/// The bytes of a NumPy .npy file's header (format 1.0, or 2.0 when it exceeds 65535 bytes)
+/// for `rows` records of the structured type with the fields `names`: little-endian float64,
+/// then the last `label_columns` as zero-padded byte strings `label_width` long. The row count
+/// is printed in a field of fixed width, so a header rewritten with the final count has the same
+/// length. Names must be identifiers (column names are).
+std::string npy_header(const std::vector<std::string>& names, int label_columns, int label_width,
+                       unsigned long long rows);
+
 class RowWriter {
  public:
   /// Writes to `out` (already holding the header) rows of `columns` numbers. With `labels`,
@@ -24,6 +32,13 @@ class RowWriter {
   /// text (the contacts' modes of a switching run).
   RowWriter(OutputStream& out, int columns, int label_columns = 0,
             std::vector<std::string> labels = {});
+  /// The same rows as a NumPy .npy file (issue 23: a binary time series for large runs): the
+  /// header (written here, with the final row count by finish()) names the fields `names`;
+  /// each number is its 8 bytes (a NaN stays NaN), each label its text in a fixed-width field.
+  struct Npy {
+    std::vector<std::string> names;
+  };
+  RowWriter(OutputStream& out, int columns, int label_columns, std::vector<std::string> labels, Npy npy);
   ~RowWriter();  // joins the thread (after finish() or on an exception path)
   RowWriter(const RowWriter&) = delete;
   RowWriter& operator=(const RowWriter&) = delete;
@@ -49,6 +64,10 @@ class RowWriter {
   bool done_ = false;
   std::exception_ptr error_;
   std::vector<char> line_;  // the writer thread's row text
+  bool npy_ = false;
+  std::vector<std::string> names_;
+  int label_width_ = 1;
+  unsigned long long rows_written_ = 0;
   std::thread thread_;
 };
 

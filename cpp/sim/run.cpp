@@ -479,11 +479,13 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     dir = out.get();
   }
   if (dir) {
-    csv = dir->open("timeseries.csv");
-    std::string& h = csv.buffer();
-    const auto cols = timeseries_columns(c);
-    for (std::size_t i = 0; i < cols.size(); ++i) h += (i ? "," : "") + cols[i];
-    h += '\n';
+    csv = dir->open(set.npy ? "timeseries.npy" : "timeseries.csv");
+    if (!set.npy) {  // the .npy header is the writer's (it carries the row count)
+      std::string& h = csv.buffer();
+      const auto cols = timeseries_columns(c);
+      for (std::size_t i = 0; i < cols.size(); ++i) h += (i ? "," : "") + cols[i];
+      h += '\n';
+    }
     // The model the run ran, as a model file (issue 26: pcsim animate draws it from there).
     const std::string model_text = source.definition_text();
     if (!model_text.empty()) {
@@ -525,7 +527,11 @@ RunResult run_case(const Case& c, const RunOptions& options) {
     for (auto m : {mech::ContactMode::flight, mech::ContactMode::contact, mech::ContactMode::stick,
                    mech::ContactMode::slip})
       labels.push_back(mech::to_string(m));  // index = the enumerator's value
-    writer = std::make_unique<RowWriter>(csv, 3 * n + n_out + 3 + modes, modes, labels);
+    if (set.npy)
+      writer = std::make_unique<RowWriter>(csv, 3 * n + n_out + 3 + modes, modes, labels,
+                                           RowWriter::Npy{timeseries_columns(c)});
+    else
+      writer = std::make_unique<RowWriter>(csv, 3 * n + n_out + 3 + modes, modes, labels);
   }
   if (options.keep) {
     options.keep->rows.clear();

@@ -355,3 +355,38 @@ BOOST_AUTO_TEST_CASE(plot_of_a_half_written_run_exits_2_and_leaves_no_figure) {
   std::ofstream(s.work / "r" / "summary.json", std::ios::binary | std::ios::trunc) << sum;
   if (gnuplot_available()) BOOST_TEST(run_pcsim({"plot", "r"}, s.work).status == 0);
 }
+
+// output.format = "npy": the run writes timeseries.npy and no timeseries.csv; the header's row
+// count, written at the end, is the CSV run's number of rows and the data fill the file exactly
+// (22 rows of the pendulum's records); a CSV run into the same directory afterwards replaces it
+// (the directory holds one run's files); pcsim plot and animate refuse the .npy directory with
+// exit 2, saying what to do, and write nothing.
+BOOST_AUTO_TEST_CASE(npy_output_replaces_the_csv_and_plot_and_animate_say_they_read_the_csv) {
+  Scratch s("files_npy");
+  std::ofstream(s.work / "p.toml") << files_test::pendulum_case("p", 0.2);
+  const Result r = run_pcsim({"run", "p.toml", "--set", "output.format=npy"}, s.work);
+  BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  const fs::path out = s.work / "out" / "p";
+  BOOST_TEST(!fs::exists(out / "timeseries.csv"));
+  const std::string npy = pcsim_test::read(out / "timeseries.npy");
+  BOOST_TEST_REQUIRE(npy.size() > 64u);
+  BOOST_TEST(npy.compare(0, 6, "\x93NUMPY") == 0);
+  const std::size_t header = 10 + (static_cast<unsigned char>(npy[8]) | static_cast<unsigned char>(npy[9]) << 8);
+  BOOST_TEST(header % 64 == 0u);
+  const std::string dict = npy.substr(10, header - 10);
+  BOOST_TEST(has(dict, "'shape': (                  21,)"), dict);  // t = 0, 0.01, ..., 0.2
+  const long fields = std::count(dict.begin(), dict.end(), '(') - 1;  // '(' of each field, and of shape
+  BOOST_TEST(npy.size() == header + 21u * 8u * static_cast<std::size_t>(fields));
+  for (const char* cmd : {"plot", "animate"}) {
+    const Result p = run_pcsim({cmd, "out/p"}, s.work);
+    BOOST_TEST(p.status == 2, p.out);
+    BOOST_TEST(has(p.out, "the run wrote timeseries.npy (output.format = \"npy\")"), p.out);
+    BOOST_TEST(!fs::exists(out / "animation.html"));
+    BOOST_TEST(pngs(out).empty());
+  }
+  const Result c = run_pcsim({"run", "p.toml"}, s.work);
+  BOOST_TEST_REQUIRE(c.status == 0, c.out);
+  BOOST_TEST(fs::exists(out / "timeseries.csv"));
+  BOOST_TEST(!fs::exists(out / "timeseries.npy"));
+  BOOST_TEST(s.user_files_intact());
+}
