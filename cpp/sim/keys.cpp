@@ -117,9 +117,10 @@ std::vector<KeySpec> table() {
   keys.push_back(number("output", "dt", "s", "output interval, s", 1e-3, 0.0, true));
   // Issue 23: a binary time series for large runs (README, "Output files").
   keys.push_back(choice("output", "format",
-                        "the time series' file: timeseries.csv (shortest round-trip decimals) or "
+                        "pcsim run's time-series file: timeseries.csv (shortest round-trip decimals) or "
                         "timeseries.npy (NumPy's array format: each value's 8 bytes, for large runs "
-                        "read with numpy.load; pcsim plot and animate read the CSV)",
+                        "read with numpy.load; pcsim plot and animate read the CSV; pcsim steady's "
+                        "one period is always CSV)",
                         {"csv", "npy"}, "csv"));
   {
     // Only for models with an excitation period (the schema leaves it out for others).
