@@ -945,12 +945,13 @@ class SpatialWheel : public JointType {
 // the no-slip rows are then rough rows, or with `mu_static` (`mu_kinetic`) the contact's two
 // Coulomb rows (a 2-D cone; refused on a frictionless ball). Reaction on the ball, in the joint
 // frame: F = λ_x u1 + λ_y v1 + λ_n w1 acting at C, and its moment about the centre (marker2),
-// ρ × F. A ball has no singular pose (the contact point is always −R w1 from the centre).
+// ρ × F. On a plane a ball has no singular pose (the contact point is always −R w1 from the
+// centre). `surface = "sphere"` (sphere_rows): on a sphere of body1, or inside a bowl.
 class SpatialBall : public JointType {
  public:
   std::string name() const override { return "ball"; }
   std::vector<std::string> extra_keys() const override {
-    std::vector<std::string> k{"radius", "no_slip"};
+    std::vector<std::string> k{"radius", "no_slip", "surface", "sphere_radius", "inside"};
     for (const auto& c : contact_keys()) k.push_back(c);
     return k;
   }
@@ -959,6 +960,15 @@ class SpatialBall : public JointType {
     if (const toml::node* ns = j.table->get("no_slip")) no_slip = x.boolean(*ns, j.key + ".no_slip");
     const Frames f = frames(x, j);
     const Expr R = x.required(*j.table, j.key, "radius", "the ball's radius (an expression)");
+    // The wheel's surface keys and refusals, word for word.
+    std::string surface = "plane";
+    if (const toml::node* sf = j.table->get("surface"))
+      surface = x.string(*sf, j.key + ".surface", "\"plane\" or \"sphere\"");
+    if (surface == "sphere") return sphere_rows(x, j, f, R, no_slip);
+    if (surface != "plane")
+      x.fail(j.key + ".surface", "\"plane\" (default: marker1's x-y plane) or \"sphere\" (centred at marker1, radius sphere_radius), got '" + surface + "'");
+    for (const char* k : {"sphere_radius", "inside"})
+      if (j.table->get(k)) x.fail(j.key + "." + k, "no " + std::string(k) + " on a ball on a plane (surface = \"sphere\" takes it)");
     const Vec3 n = column(f.E1, 2);
     const std::string pre = j.name + "_";
     Vec3 rho;  // from the centre to the contact point, −R w1 (named: drawings use it)
@@ -972,6 +982,66 @@ class SpatialBall : public JointType {
     j.rows.push_back(rn);
     Vec3 F = scale(lam(rn), n);
     if (no_slip) no_slip_rows(x, j, f, add(f.P2, rho), column(f.E1, 0), column(f.E1, 1), rn, rx, ry, F);
+    set_reaction(j, f, F, cross(rho, F));
+  }
+
+ private:
+  // On a sphere of body1 (centre S = marker1's origin, radius Rs = `sphere_radius`), outside
+  // (default) or inside (`inside = true`, a ball in a spherical bowl). With d = C − S (the ball's
+  // centre from the sphere's) and ν̂ = d/|d|: the row n is |d| − (Rs + R) outside, (Rs − R) − |d|
+  // inside (a distance, its multiplier the normal force in N); the contact point is S + Rs ν̂,
+  // the ball's material point there C − R n̂, with n̂ = ν̂ outside and −ν̂ inside the surface's
+  // normal towards the ball (the normal force's direction on the ball). ρ = −R n̂.
+  // Tangents: the rotation of least angle taking w1 to n̂ (two reflections, across the plane
+  // normal to w1 + n̂, then across the one normal to n̂) applied to u1 and v1:
+  //   t1 = u1 − (n̂·u1)/(1 + w1·n̂) (w1 + n̂),  t2 = v1 − (n̂·v1)/(1 + w1·n̂) (w1 + n̂),
+  // exactly orthonormal and normal to n̂ (n̂·t1 = n̂·u1 − (n̂·u1)(w1·n̂ + 1)/(1 + w1·n̂) = 0), equal to
+  // u1, v1 where n̂ = w1 (the top of the sphere outside, the bottom of the bowl inside, with w1
+  // up), and smooth everywhere except the one point n̂ = −w1 (the sphere's bottom outside, the
+  // bowl's top inside), where 1 + w1·n̂ = 0. (A tangent field on a sphere must vanish somewhere;
+  // this one is singular at a single point, opposite the pose a ball rests in under −w1 gravity.)
+  // Nothing is refused at load time; a run that reaches n̂ = −w1 divides by zero there.
+  static void sphere_rows(Expander& x, Joint& j, const Frames& f, const Expr& R, bool no_slip) {
+    const Expr Rs = x.required(*j.table, j.key, "sphere_radius", "the sphere's radius (an expression; the sphere is centred at marker1)");
+    bool inside = false;
+    if (const toml::node* in = j.table->get("inside")) inside = x.boolean(*in, j.key + ".inside");
+    // Every intermediate vector is a named definition (as the wheel's sphere_rows:
+    // test_modelfile_evaluation_order).
+    const std::string pre = j.name + "_";
+    auto named = [&](const std::string& stem, const Vec3& v) {
+      Vec3 out;
+      for (int i = 0; i < 3; ++i) out[i] = x.define(pre + stem + "xyz"[i], v[i], j.key);
+      return out;
+    };
+    const Vec3 d = named("d", f.d);
+    const Expr dist = x.define(pre + "dist", "sqrt(" + dot(d, d) + ")", j.key);
+    Vec3 nh;  // the surface's normal at the contact, towards the ball: the normal force's direction
+    for (int i = 0; i < 3; ++i)
+      nh[i] = x.define(pre + "nu" + "xyz"[i], (inside ? "-" : "") + d[i] + "/" + dist, j.key);
+    Vec3 rho;  // from the centre to the contact point, −R n̂ (named: drawings use it)
+    for (int i = 0; i < 3; ++i) rho[i] = x.define(pre + "rho" + "xyz"[i], neg(mul(R, nh[i])), j.key);
+    Row rn, rx, ry;
+    rn.name = pre + "n";
+    rn.holonomic = inside ? sub(sub(Rs, R), dist) : sub(dist, paren(add(Rs, R)));
+    rx.name = pre + "x";
+    ry.name = pre + "y";
+    if (has_contact_keys(j)) read_rolling_contact(x, j, rn, no_slip, rx, ry, "frictionless ball");
+    j.rows.push_back(rn);
+    Vec3 F = scale(lam(rn), nh);
+    if (no_slip) {
+      const Vec3 u1 = named("u1", column(f.E1, 0)), v1 = named("v1", column(f.E1, 1)), w1 = named("w1", column(f.E1, 2));
+      const Expr k = x.define(pre + "k", "1/(1 + " + dot(w1, nh) + ")", j.key);
+      const Expr nu = x.define(pre + "nu1", dot(nh, u1), j.key), nv = x.define(pre + "nv1", dot(nh, v1), j.key);
+      Vec3 s0;
+      for (int i = 0; i < 3; ++i) s0[i] = add(w1[i], nh[i]);
+      const Vec3 s = named("wn", s0);
+      Vec3 t1, t2;
+      for (int i = 0; i < 3; ++i) {
+        t1[i] = x.define(pre + "t1" + "xyz"[i], sub(u1[i], nu + "*" + k + "*" + s[i]), j.key);
+        t2[i] = x.define(pre + "t2" + "xyz"[i], sub(v1[i], nv + "*" + k + "*" + s[i]), j.key);
+      }
+      no_slip_rows(x, j, f, add(f.P2, rho), t1, t2, rn, rx, ry, F);
+    }
     set_reaction(j, f, F, cross(rho, F));
   }
 };

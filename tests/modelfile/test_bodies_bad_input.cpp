@@ -373,10 +373,23 @@ BOOST_AUTO_TEST_CASE(ball_joint_bad_keys_are_refused_naming_the_key) {
   // The radius is required.
   expect_error(ball, {"m.toml", "model.joint.b.radius", "the ball's radius"});
   expect_error(ball + "unilateral = true\n", {"m.toml", "model.joint.b.radius", "the ball's radius"});
-  // Unknown keys, the wheel's own among them (a ball rolls on a plane only).
-  expect_error(rolling + "surface = \"sphere\"\n",
-               {"m.toml", "model.joint.b.surface", "unknown key", "radius", "no_slip", "unilateral", "mu_kinetic"});
-  expect_error(rolling + "sphere_radius = 1.0\n", {"model.joint.b.sphere_radius", "unknown key"});
+  // On a sphere (surface = "sphere"), the wheel's keys with the wheel's refusals: sphere_radius
+  // required with it and refused without it, inside only on a sphere and a boolean. (The wheel
+  // takes any sphere_radius expression; so does the ball: its value is not known at load time.)
+  BOOST_CHECK_EQUAL(error_of(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\n"), "");
+  BOOST_CHECK_EQUAL(error_of(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\ninside = true\n"), "");
+  BOOST_CHECK_EQUAL(error_of(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\nunilateral = true\nmu_static = 0.3\nmu_kinetic = 0.1\n"), "");
+  BOOST_CHECK_EQUAL(error_of(rolling + "surface = \"plane\"\n"), "");
+  expect_error(rolling + "surface = \"cylinder\"\n", {"m.toml", "model.joint.b.surface", "\"plane\"", "\"sphere\"", "got 'cylinder'"});
+  expect_error(rolling + "surface = \"sphere\"\n", {"m.toml", "model.joint.b.sphere_radius", "the sphere's radius"});
+  expect_error(rolling + "sphere_radius = 1.0\n", {"m.toml", "model.joint.b.sphere_radius", "surface = \"sphere\""});
+  expect_error(rolling + "inside = true\n", {"m.toml", "model.joint.b.inside", "surface = \"sphere\""});
+  expect_error(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\ninside = 1\n", {"m.toml", "model.joint.b.inside"});
+  expect_error(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\nno_slip = false\nunilateral = true\nmu_static = 0.3\n",
+               {"model.joint.b.mu_static", "frictionless ball"});
+  // Unknown keys name the ball's own.
+  expect_error(rolling + "axle = 1.0\n",
+               {"m.toml", "model.joint.b.axle", "unknown key", "radius", "no_slip", "surface", "sphere_radius", "inside", "unilateral", "mu_kinetic"});
   expect_error(rolling + "unilateral = true\nfriction = \"b_n\"\n", {"model.joint.b.friction", "unknown key"});
   // Friction and restitution need a gap that can open.
   expect_error(rolling + "mu_static = 0.3\n", {"m.toml", "model.joint.b.mu_static", "only with unilateral = true"});

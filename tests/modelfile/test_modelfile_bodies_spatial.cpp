@@ -21,6 +21,10 @@
 // - the ball joint's rows (a sphere on a plane, on ground and on a tumbling deck) equal their
 //   definition computed with Eigen, its reaction acts at the contact point; a ball rolling on a
 //   driven turntable circles at 2/7 of the table's rate (the closed form dv/dt = (2/7) Omega z x v);
+// - the ball joint on a sphere (outside, inside a bowl; on ground and on a tumbling deck): its
+//   rows and reaction equal their definition computed with Eigen (tangents by Eigen's
+//   FromTwoVectors); a ball rolling in a bowl oscillates at w^2 = 5 g / (7 (Rb - r)), its period's
+//   excess the pendulum's th0^2/16, its energy constant;
 // - inertia tensors that are not symmetric or not positive definite are rejected naming the key;
 // - the Whipple bicycle as bodies (models/whipple_bodies.toml) conserves energy in a nonlinear
 //   run and, between its weave and capsize speeds, rights itself after a push in roll, while
@@ -2160,4 +2164,181 @@ BOOST_AUTO_TEST_CASE(ball_on_a_turntable_circles_at_two_sevenths_of_the_tables_r
   BOOST_TEST(err_F < 1e-8);
   BOOST_TEST(err_M < 1e-9);
   BOOST_TEST(err_N < 1e-9);
+}
+
+// ---- the ball joint on a sphere (surface = "sphere", outside or inside a bowl) ---------------
+
+// The ball joint's sphere rows (docs/bodies-spatial.md "Joints") against their definition
+// computed here with Eigen, at 20 random states each, outside and inside a sphere of radius
+// Rs = 0.5 m centred at marker1: on ground (the marker at (300, -200, 80) m turned by 0.5 rad
+// about (1, -2, 2), with mu_static: rows x, y the contact's Coulomb rows) and on a tumbling deck
+// (bilateral). With d = P2 - P1, nu = d/|d|, n_hat = +nu outside, -nu inside:
+//   n = |d| - (Rs + R) outside, (Rs - R) - |d| inside;  its rate +/- nu.(v_P2 - v_P1);
+//   x = t1.(v_C - v_B1(C)), y = t2.(...), C = P2 - R n_hat the ball's material point,
+// where (t1, t2) = Q (u1, v1), Q = Eigen's Quaterniond::FromTwoVectors(w1, n_hat) (the least
+// rotation taking w1 to n_hat: an independent construction of the joint's two-reflection
+// formula); the reaction F = lambda_n n_hat + lambda_x t1 + lambda_y t2 at C, in the joint frame
+// (marker1's axes U): U^T F and U^T ((-R n_hat) x F). States with 1 + w1.n_hat < 0.1 are drawn
+// again (the tangents' one singular point is n_hat = -w1). Tolerances: positions ~370 m from the
+// origin carry a rounding of 370 * 1.1e-16 = 4e-14 m, which the gap sees directly (1e-12 m); n_hat
+// = d/|d| with |d| ~ 0.5 m carries 1e-13 relative, amplified up to 10x by 1/(1 + w1.n_hat) in the
+// tangents, so the x, y rows and the reaction are held to 1e-11 of the velocities' scale and of
+// |lambda| (the rate of n, free of the tangents, to 1e-12).
+BOOST_AUTO_TEST_CASE(ball_on_a_sphere_rows_are_the_gap_and_the_sliding_velocity_along_the_least_rotated_tangents) {
+  const double R = 0.04, Rs = 0.5;
+  const Vector3d X0(300.0, -200.0, 80.0);
+  for (const bool deck : {false, true}) {
+    for (const bool inside : {false, true}) {
+      BOOST_TEST_CONTEXT((deck ? "on a tumbling deck, " : "on ground, ") << (inside ? "inside" : "outside")) {
+        std::string text = deck ? kBallOnDeck : kBallOnGround;
+        if (!deck) {
+          text.replace(text.find("X0 = 400.0"), 10, "X0 = 300.0");
+          text.replace(text.find("Y0 = -300.0"), 11, "Y0 = -200.0");
+          text.replace(text.find("Z0 = 120.0"), 10, "Z0 = 80.0");
+        }
+        text += "surface = \"sphere\"\nsphere_radius = 0.5\n";
+        if (inside) text += "inside = true\n";
+        const auto model = load_model_text(text, "ball_on_sphere.toml")->instantiate({});
+        if (!deck) expect_coulomb_pair(*model, "roll_n", "roll_x", "roll_y", 0.4, 0.3);
+        const auto& names = model->coordinates();
+        const int ib = name_index(names, "ball_x"), id = deck ? name_index(names, "deck_x") : -1;
+        const Vector3d p1 = deck ? Vector3d(0.3, -0.2, 0.1) : Vector3d::Zero();
+        const Matrix3d R1 = deck ? Matrix3d(Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()))
+                                 : Matrix3d(Eigen::AngleAxisd(0.5, Vector3d(1, -2, 2).normalized()));
+        const Vector3d p2(0.01, 0.02, -0.01);
+        const int in = model->constraint_index("roll_n");
+        const std::vector<int> rows = indices(*model, {"roll_n", "roll_x", "roll_y"});
+        std::mt19937 rng(deck ? 47 : 46);
+        double worst_gap = 0, worst_rate = 0, worst = 0, worst_F = 0;
+        int k = 0;
+        while (k < 20) {
+          Eigen::VectorXd q = Eigen::VectorXd::Zero(model->n()), qd = q;
+          Vector3d r1 = X0, v1 = Vector3d::Zero(), wb1 = Vector3d::Zero();
+          Matrix3d A1 = Matrix3d::Identity();
+          if (deck) {
+            random_body(rng, X0, 0.5, id, q, qd);
+            r1 = q.segment<3>(id);
+            A1 = A_of(q.segment<4>(id + 3));
+            wb1 = 2 * E_of(q.segment<4>(id + 3)) * qd.segment<4>(id + 3);
+            v1 = qd.segment<3>(id);
+          }
+          const Matrix3d U = A1 * R1;
+          const Vector3d P1 = r1 + A1 * p1;
+          // The centre at a random direction from S, at the touching distance plus up to 1 cm.
+          const Vector3d dir = Vector3d(uniform(rng), uniform(rng), uniform(rng)).normalized();
+          const Vector3d nh = inside ? Vector3d(-dir) : dir;
+          if (1 + U.col(2).dot(nh) < 0.1) continue;  // near the tangents' singular point
+          const double L = (inside ? Rs - R : Rs + R) + 0.01 * uniform(rng);
+          random_body(rng, X0, 0.0, ib, q, qd);
+          const Matrix3d A2 = A_of(q.segment<4>(ib + 3));
+          q.segment<3>(ib) = P1 + L * dir - A2 * p2;
+          const Vector3d r2 = q.segment<3>(ib);
+          const Vector3d w2 = 2 * E_of(q.segment<4>(ib + 3)) * qd.segment<4>(ib + 3);
+          const Vector3d P2 = r2 + A2 * p2, d = P2 - P1, nu = d.normalized();
+          const Vector3d n_hat = inside ? Vector3d(-nu) : nu, C = P2 - R * n_hat;
+          const Vector3d vP2 = qd.segment<3>(ib) + w2.cross(A2 * p2), vP1 = v1 + wb1.cross(P1 - r1);
+          const Vector3d vC = qd.segment<3>(ib) + w2.cross(C - r2), vB1 = v1 + wb1.cross(C - r1);
+          const double gap = inside ? (Rs - R) - d.norm() : d.norm() - (Rs + R);
+          worst_gap = std::max(worst_gap, std::abs(model->position_residual(in, 0.3, q) - gap));
+          const Eigen::VectorXd got = row_values(*model, rows, q, qd);
+          const double rate = (inside ? -1.0 : 1.0) * nu.dot(vP2 - vP1);
+          const double scale = vP2.norm() + vP1.norm() + vC.norm() + vB1.norm();
+          worst_rate = std::max(worst_rate, std::abs(got[0] - rate) / scale);
+          const Eigen::Quaterniond Q = Eigen::Quaterniond::FromTwoVectors(U.col(2), n_hat);
+          const Vector3d t1 = Q * U.col(0), t2 = Q * U.col(1);
+          const Eigen::Vector2d expected(t1.dot(vC - vB1), t2.dot(vC - vB1));
+          worst = std::max(worst, (got.tail<2>() - expected).cwiseAbs().maxCoeff() / scale);
+          const std::vector<int> all = all_rows(*model);
+          Eigen::VectorXd lambda(static_cast<Eigen::Index>(all.size())), out;
+          for (auto& l : lambda) l = 10.0 * uniform(rng);
+          const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model->n());
+          model->derived_with_multipliers(0.3, q, qd, zero, zero, all, lambda, out);
+          auto column = [&](const std::string& c) { return out[name_index(model->derived_names(), c)]; };
+          auto lambda_of = [&](const std::string& r) { return lambda[model->constraint_index(r)]; };
+          const Vector3d F = lambda_of("roll_n") * n_hat + lambda_of("roll_x") * t1 + lambda_of("roll_y") * t2;
+          const Vector3d Fj = U.transpose() * F, Mj = U.transpose() * (-R * n_hat).cross(F);
+          const Vector3d Fgot(column("F_roll_x"), column("F_roll_y"), column("F_roll_z"));
+          const Vector3d Mgot(column("M_roll_x"), column("M_roll_y"), column("M_roll_z"));
+          worst_F = std::max(worst_F, std::max((Fgot - Fj).cwiseAbs().maxCoeff(), (Mgot - Mj).cwiseAbs().maxCoeff() / R) / 10.0);
+          ++k;
+        }
+        BOOST_TEST_MESSAGE((deck ? "deck" : "ground") << (inside ? " inside" : " outside") << ": gap row " << worst_gap
+                           << " m, its rate " << worst_rate << " and the x, y rows " << worst
+                           << " of |v| against Eigen; reaction " << worst_F << " of |lambda|");
+        BOOST_TEST(worst_gap < 1e-12);
+        BOOST_TEST(worst_rate < 1e-12);
+        BOOST_TEST(worst < 1e-11);
+        BOOST_TEST(worst_F < 1e-11);
+      }
+    }
+  }
+}
+
+// A homogeneous ball (J = 2/5 m r^2) rolling without slip in a spherical bowl
+// (models/ball_bowl_bodies.toml: m = 0.5 kg, r = 0.1 m, bowl radius Rb = 1 m centred at
+// (300, -200, 80) m, marker1's z up: the tangents' singular point is the bowl's top, far away).
+// In the vertical plane y = Y0, with th the angle of the centre from the bottom and L = Rb - r,
+// the centre moves at L th_d and no slip spins the ball at L th_d / r, so
+// T = 1/2 (m + J/r^2) L^2 th_d^2 = 7/10 m L^2 th_d^2, V = -m g L cos(th):  7/5 L th_dd = -g sin(th),
+// the pendulum of length 7/5 L: small oscillations at w^2 = 5 g / (7 L), and from th0 at rest the
+// period is 2 pi/w (1 + th0^2/16 + O(th0^4)). Released from th0 = 1e-3 rad at rest, the mean period
+// over 4 swings (upward zero crossings of x - X0, interpolated linearly between 1e-3 s samples: an
+// error of (w dt)^2 dt/6 = 1.3e-9 s each, 6e-10 of the period) matches 2 pi/w to th0^2/8 = 1.25e-7
+// relative (twice the th0^2/16 term; the integration at rtol 1e-11 adds ~1e-9); the energy
+// T + V (from the state, V relative to the bowl's centre) stays at its initial value to 1e-5 of the
+// swing's kinetic energy m g L (1 - cos th0) = 2.2e-6 J (positions carry atol 1e-13 m, m g 1e-13 =
+// 5e-13 J = 2e-7 of it); the ball stays in the plane y = Y0 (1e-12 m) and the normal force is
+// m g cos(th) + m |v|^2 / L (the centre's centripetal balance; th and v from the state) to 1e-9
+// of m g. Beyond the bound, the period's excess over 2 pi/w is the th0^2/16 term itself to 1e-9
+// (the th0^4 term is 4e-15; the crossings' interpolation ~6e-10 at most).
+// Measured (Release): period excess 6.2539e-8 (th0^2/16 = 6.25e-8), energy 2.4e-7 of the swing's.
+BOOST_AUTO_TEST_CASE(ball_rolling_in_a_spherical_bowl_oscillates_at_the_rolling_pendulums_frequency) {
+  const double m = 0.5, r = 0.1, Rb = 1.0, g = 9.81, L = Rb - r, th0 = 1e-3;
+  const Vector3d S(300.0, -200.0, 80.0);
+  const double w = std::sqrt(5 * g / (7 * L)), T0 = 2 * M_PI / w, KE = m * g * L * (1 - std::cos(th0));
+  const auto desc = load_model_file(model_path("ball_bowl_bodies.toml"));
+  const auto model = desc->instantiate({});
+  Eigen::VectorXd q0(7), qd0 = Eigen::VectorXd::Zero(7);
+  q0 << S + L * Vector3d(std::sin(th0), 0, -std::cos(th0)), 1, 0, 0, 0;
+  mech::SimulationOptions o;
+  o.t_end = 4.2 * T0;
+  o.rtol = 1e-11;
+  o.atol = 1e-13;
+  o.kernel = Kernel::cpp;
+  o.active_constraints = all_names(*model);
+  const int iN = output_index(*desc, "normal");
+  auto energy = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    const Vector3d wb = 2 * E_of(q.segment<4>(3)) * qd.segment<4>(3);
+    return 0.5 * m * qd.head<3>().squaredNorm() + 0.5 * 0.4 * m * r * r * wb.squaredNorm() + m * g * (q[2] - S[2]);
+  };
+  const double E0 = energy(q0, qd0), dt = 1e-3;
+  std::vector<double> ups;
+  double prev_x = q0[0] - S[0], prev_t = 0, err_E = 0, err_y = 0, err_N = 0;
+  int next = 1;
+  const auto res = mech::simulate(*model, q0, qd0, o, [&](const mech::StepView& v) {
+    while (next * dt <= v.t + 1e-12) {
+      const mech::Sample smp = v.sample(next * dt);
+      const double x = smp.q[0] - S[0];
+      if (prev_x < 0 && x >= 0) ups.push_back(prev_t + (smp.t - prev_t) * (-prev_x) / (x - prev_x));
+      prev_x = x;
+      prev_t = smp.t;
+      err_E = std::max(err_E, std::abs(energy(smp.q, smp.qd) - E0));
+      err_y = std::max(err_y, std::abs(smp.q[1] - S[1]));
+      const double th = std::atan2(x, -(smp.q[2] - S[2]));
+      err_N = std::max(err_N, std::abs(smp.derived[iN] - (m * g * std::cos(th) + m * smp.qd.head<3>().squaredNorm() / L)));
+      ++next;
+    }
+    return true;
+  });
+  BOOST_REQUIRE(res.status == mech::SimulationStatus::success);
+  BOOST_REQUIRE(ups.size() >= 4);
+  const double period = (ups.back() - ups.front()) / static_cast<double>(ups.size() - 1);
+  BOOST_TEST_MESSAGE("ball in a bowl: period " << period << " s vs 2 pi/w = " << T0 << " s, relative "
+                     << period / T0 - 1 << " (th0^2/16 = " << th0 * th0 / 16 << "); |E - E0| " << err_E / KE
+                     << " of the swing's energy; |y - Y0| " << err_y << " m; |N - (m g cos th + m v^2/L)| " << err_N / (m * g) << " of m g");
+  BOOST_TEST(std::abs(period / T0 - 1) < th0 * th0 / 8);
+  BOOST_TEST(std::abs(period / T0 - 1 - th0 * th0 / 16) < 1e-9);
+  BOOST_TEST(err_E < 1e-5 * KE);
+  BOOST_TEST(err_y < 1e-12);
+  BOOST_TEST(err_N < 1e-9 * m * g);
 }

@@ -16,6 +16,7 @@
 #include "common/eigen_instances.hpp"
 
 #include <climits>
+#include <cstdint>
 #include <filesystem>
 #include <random>
 
@@ -46,10 +47,15 @@ std::vector<std::filesystem::path> model_files() {
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(sparse_and_dense_structured_solves_agree_on_every_model) {
-  std::mt19937 rng(23);
   int compared = 0, sparse_solved = 0;
   for (const auto& file : model_files()) {
     BOOST_TEST_CONTEXT(file.filename().string()) {
+      // Each model's states from its own stream (seeded by its file name, FNV-1a): with one stream
+      // for all, adding a model to models/ moved every later model's random states, and a state
+      // near a rank hand-over (bricard_a04's) could move past the test's tolerance.
+      std::uint32_t seed = 2166136261u;
+      for (const unsigned char c : file.filename().string()) seed = (seed ^ c) * 16777619u;
+      std::mt19937 rng(seed);
       const auto desc = load_model_file(file);
       const int n0 = static_cast<int>(desc->coordinates().size());
       Eigen::VectorXd q0(n0);  // fixes the constants of from_initial constraints
