@@ -754,6 +754,39 @@ class SpatialDistance : public JointType {
 // force's components in N). The wheel and the ball share the reading of their contact keys and
 // these rows.
 
+// The keys a rolling body (`body`: "wheel", "ball") reads before its rows, in this order:
+// `no_slip` (default true), its markers, `radius`, and its surface: marker1's x-y plane
+// (default) or `surface = "sphere"` (body1's sphere centred at marker1, `sphere_radius`, and
+// `inside = true` for a bowl; those two keys are refused on a plane).
+struct RollingKeys {
+  bool no_slip = true;
+  Frames f;
+  Expr radius;
+  bool sphere = false;
+};
+std::vector<std::string> rolling_extra_keys() {
+  std::vector<std::string> k{"radius", "no_slip", "surface", "sphere_radius", "inside"};
+  for (const auto& c : contact_keys()) k.push_back(c);
+  return k;
+}
+RollingKeys read_rolling_keys(Expander& x, const Joint& j, const std::string& body) {
+  RollingKeys k;
+  if (const toml::node* ns = j.table->get("no_slip")) k.no_slip = x.boolean(*ns, j.key + ".no_slip");
+  k.f = frames(x, j);
+  k.radius = x.required(*j.table, j.key, "radius", "the " + body + "'s radius (an expression)");
+  std::string surface = "plane";
+  if (const toml::node* sf = j.table->get("surface"))
+    surface = x.string(*sf, j.key + ".surface", "\"plane\" or \"sphere\"");
+  k.sphere = surface == "sphere";
+  if (k.sphere) return k;
+  if (surface != "plane")
+    x.fail(j.key + ".surface", "\"plane\" (default: marker1's x-y plane) or \"sphere\" (centred at marker1, radius sphere_radius), got '" + surface + "'");
+  for (const char* key : {"sphere_radius", "inside"})
+    if (j.table->get(key))
+      x.fail(j.key + "." + key, "no " + std::string(key) + " on a " + body + " on a plane (surface = \"sphere\" takes it)");
+  return k;
+}
+
 // The contact keys (bodies_contact.cpp): `unilateral`, `restitution` on the row n; `mu_static`,
 // `mu_kinetic` on the no-slip rows x, y, which become the contact's two Coulomb rows. A
 // frictionless body (no_slip = false; `frictionless` names it: "frictionless disk") has no rows to
@@ -819,24 +852,13 @@ void no_slip_rows(Expander& x, Joint& j, const Frames& f, const Vec3& P, const V
 class SpatialWheel : public JointType {
  public:
   std::string name() const override { return "wheel"; }
-  std::vector<std::string> extra_keys() const override {
-    std::vector<std::string> k{"radius", "no_slip", "surface", "sphere_radius", "inside"};
-    for (const auto& c : contact_keys()) k.push_back(c);
-    return k;
-  }
+  std::vector<std::string> extra_keys() const override { return rolling_extra_keys(); }
   void rows(Expander& x, Joint& j) const override {
-    bool no_slip = true;
-    if (const toml::node* ns = j.table->get("no_slip")) no_slip = x.boolean(*ns, j.key + ".no_slip");
-    const Frames f = frames(x, j);
-    const Expr r = x.required(*j.table, j.key, "radius", "the wheel's radius (an expression)");
-    std::string surface = "plane";
-    if (const toml::node* sf = j.table->get("surface"))
-      surface = x.string(*sf, j.key + ".surface", "\"plane\" or \"sphere\"");
-    if (surface == "sphere") return sphere_rows(x, j, f, r, no_slip);
-    if (surface != "plane")
-      x.fail(j.key + ".surface", "\"plane\" (default: marker1's x-y plane) or \"sphere\" (centred at marker1, radius sphere_radius), got '" + surface + "'");
-    for (const char* k : {"sphere_radius", "inside"})
-      if (j.table->get(k)) x.fail(j.key + "." + k, "no " + std::string(k) + " on a wheel on a plane (surface = \"sphere\" takes it)");
+    const RollingKeys k = read_rolling_keys(x, j, "wheel");
+    const bool no_slip = k.no_slip;
+    const Frames& f = k.f;
+    const Expr& r = k.radius;
+    if (k.sphere) return sphere_rows(x, j, f, r, no_slip);
     const Vec3 n = column(f.E1, 2), a = column(f.E2, 2);
     const Vec3 c = cross(n, a);
     const std::string pre = j.name + "_";
@@ -950,25 +972,13 @@ class SpatialWheel : public JointType {
 class SpatialBall : public JointType {
  public:
   std::string name() const override { return "ball"; }
-  std::vector<std::string> extra_keys() const override {
-    std::vector<std::string> k{"radius", "no_slip", "surface", "sphere_radius", "inside"};
-    for (const auto& c : contact_keys()) k.push_back(c);
-    return k;
-  }
+  std::vector<std::string> extra_keys() const override { return rolling_extra_keys(); }
   void rows(Expander& x, Joint& j) const override {
-    bool no_slip = true;
-    if (const toml::node* ns = j.table->get("no_slip")) no_slip = x.boolean(*ns, j.key + ".no_slip");
-    const Frames f = frames(x, j);
-    const Expr R = x.required(*j.table, j.key, "radius", "the ball's radius (an expression)");
-    // The wheel's surface keys and refusals, word for word.
-    std::string surface = "plane";
-    if (const toml::node* sf = j.table->get("surface"))
-      surface = x.string(*sf, j.key + ".surface", "\"plane\" or \"sphere\"");
-    if (surface == "sphere") return sphere_rows(x, j, f, R, no_slip);
-    if (surface != "plane")
-      x.fail(j.key + ".surface", "\"plane\" (default: marker1's x-y plane) or \"sphere\" (centred at marker1, radius sphere_radius), got '" + surface + "'");
-    for (const char* k : {"sphere_radius", "inside"})
-      if (j.table->get(k)) x.fail(j.key + "." + k, "no " + std::string(k) + " on a ball on a plane (surface = \"sphere\" takes it)");
+    const RollingKeys k = read_rolling_keys(x, j, "ball");  // the wheel's keys and refusals
+    const bool no_slip = k.no_slip;
+    const Frames& f = k.f;
+    const Expr& R = k.radius;
+    if (k.sphere) return sphere_rows(x, j, f, R, no_slip);
     const Vec3 n = column(f.E1, 2);
     const std::string pre = j.name + "_";
     Vec3 rho;  // from the centre to the contact point, −R w1 (named: drawings use it)
