@@ -763,7 +763,17 @@ struct RollingKeys {
   Frames f;
   Expr radius;
   bool sphere = false;
+  Expr sphere_radius;   ///< with surface = "sphere"
+  bool inside = false;  ///< with surface = "sphere": a bowl
 };
+// A vector as three named definitions <joint>_<stem>x, _y, _z. Written inline, the sums GiNaC
+// reorders survive into the tape, which then differs from load to load
+// (test_modelfile_evaluation_order).
+Vec3 named_vector(Expander& x, const Joint& j, const std::string& stem, const Vec3& v) {
+  Vec3 out;
+  for (int i = 0; i < 3; ++i) out[i] = x.define(j.name + "_" + stem + "xyz"[i], v[i], j.key);
+  return out;
+}
 std::vector<std::string> rolling_extra_keys() {
   std::vector<std::string> k{"radius", "no_slip", "surface", "sphere_radius", "inside"};
   for (const auto& c : contact_keys()) k.push_back(c);
@@ -778,7 +788,12 @@ RollingKeys read_rolling_keys(Expander& x, const Joint& j, const std::string& bo
   if (const toml::node* sf = j.table->get("surface"))
     surface = x.string(*sf, j.key + ".surface", "\"plane\" or \"sphere\"");
   k.sphere = surface == "sphere";
-  if (k.sphere) return k;
+  if (k.sphere) {
+    k.sphere_radius = x.required(*j.table, j.key, "sphere_radius",
+                                 "the sphere's radius (an expression; the sphere is centred at marker1)");
+    if (const toml::node* in = j.table->get("inside")) k.inside = x.boolean(*in, j.key + ".inside");
+    return k;
+  }
   if (surface != "plane")
     x.fail(j.key + ".surface", "\"plane\" (default: marker1's x-y plane) or \"sphere\" (centred at marker1, radius sphere_radius), got '" + surface + "'");
   for (const char* key : {"sphere_radius", "inside"})
@@ -858,7 +873,7 @@ class SpatialWheel : public JointType {
     const bool no_slip = k.no_slip;
     const Frames& f = k.f;
     const Expr& r = k.radius;
-    if (k.sphere) return sphere_rows(x, j, f, r, no_slip);
+    if (k.sphere) return sphere_rows(x, j, k);
     const Vec3 n = column(f.E1, 2), a = column(f.E2, 2);
     const Vec3 c = cross(n, a);
     const std::string pre = j.name + "_";
@@ -904,19 +919,14 @@ class SpatialWheel : public JointType {
   // |t1| = 1; t1 is normal to a and to d_p, hence to d + ρ = (1 ∓ r/σ) d_p + (d·a) a, i.e. to ν;
   // so t2 = ν × t1 is a unit vector normal to both. The rows are the sliding velocity's
   // components in m/s, and as Coulomb rows (mu_static) their cone is isotropic.
-  static void sphere_rows(Expander& x, Joint& j, const Frames& f, const Expr& r, bool no_slip) {
-    const Expr R = x.required(*j.table, j.key, "sphere_radius", "the sphere's radius (an expression; the sphere is centred at marker1)");
-    bool inside = false;
-    if (const toml::node* in = j.table->get("inside")) inside = x.boolean(*in, j.key + ".inside");
-    // Every intermediate vector is a named definition: written inline, the sums GiNaC
-    // reorders survive into the tape, which then differs from load to load
-    // (test_modelfile_evaluation_order).
+  static void sphere_rows(Expander& x, Joint& j, const RollingKeys& k) {
+    const Frames& f = k.f;
+    const Expr& r = k.radius;
+    const Expr& R = k.sphere_radius;
+    const bool inside = k.inside, no_slip = k.no_slip;
+    // Every intermediate vector is a named definition (named_vector).
     const std::string pre = j.name + "_";
-    auto named = [&](const std::string& stem, const Vec3& v) {
-      Vec3 out;
-      for (int i = 0; i < 3; ++i) out[i] = x.define(pre + stem + "xyz"[i], v[i], j.key);
-      return out;
-    };
+    auto named = [&](const std::string& stem, const Vec3& v) { return named_vector(x, j, stem, v); };
     const Vec3 a = named("a", column(f.E2, 2));
     const Vec3 d = named("d", f.d);
     const Expr da = x.define(pre + "da", dot(d, a), j.key);
@@ -978,7 +988,7 @@ class SpatialBall : public JointType {
     const bool no_slip = k.no_slip;
     const Frames& f = k.f;
     const Expr& R = k.radius;
-    if (k.sphere) return sphere_rows(x, j, f, R, no_slip);
+    if (k.sphere) return sphere_rows(x, j, k);
     const Vec3 n = column(f.E1, 2);
     const std::string pre = j.name + "_";
     Vec3 rho;  // from the centre to the contact point, −R w1 (named: drawings use it)
@@ -1011,18 +1021,14 @@ class SpatialBall : public JointType {
   // bowl's top inside), where 1 + w1·n̂ = 0. (A tangent field on a sphere must vanish somewhere;
   // this one is singular at a single point, opposite the pose a ball rests in under −w1 gravity.)
   // Nothing is refused at load time; a run that reaches n̂ = −w1 divides by zero there.
-  static void sphere_rows(Expander& x, Joint& j, const Frames& f, const Expr& R, bool no_slip) {
-    const Expr Rs = x.required(*j.table, j.key, "sphere_radius", "the sphere's radius (an expression; the sphere is centred at marker1)");
-    bool inside = false;
-    if (const toml::node* in = j.table->get("inside")) inside = x.boolean(*in, j.key + ".inside");
-    // Every intermediate vector is a named definition (as the wheel's sphere_rows:
-    // test_modelfile_evaluation_order).
+  static void sphere_rows(Expander& x, Joint& j, const RollingKeys& k) {
+    const Frames& f = k.f;
+    const Expr& R = k.radius;
+    const Expr& Rs = k.sphere_radius;
+    const bool inside = k.inside, no_slip = k.no_slip;
+    // Every intermediate vector is a named definition (named_vector).
     const std::string pre = j.name + "_";
-    auto named = [&](const std::string& stem, const Vec3& v) {
-      Vec3 out;
-      for (int i = 0; i < 3; ++i) out[i] = x.define(pre + stem + "xyz"[i], v[i], j.key);
-      return out;
-    };
+    auto named = [&](const std::string& stem, const Vec3& v) { return named_vector(x, j, stem, v); };
     const Vec3 d = named("d", f.d);
     const Expr dist = x.define(pre + "dist", "sqrt(" + dot(d, d) + ")", j.key);
     Vec3 nh;  // the surface's normal at the contact, towards the ball: the normal force's direction
