@@ -395,12 +395,19 @@ Expr BodyKind::kinetic(const Body& b) const {
     squares_of_cross(wP, b.relative.r);
     // 2 V_P·A_P (u_o + A_rel (ω_b × c)) as one term (two terms V_P·A_P u_o + V_P·A (ω_b × c)
     // meet an ordering tie of the tape compiler: different tapes in different processes).
-    cross_term(dot(VP, apply(P.A, add(uo, apply(b.relative.A, wc)))));
+    if (planar())
+      cross_term(dot(VP, add(apply(P.A, uo), apply(b.pose.A, wc))));
+    else
+      cross_term(dot(VP, apply(P.A, add(uo, apply(b.relative.A, wc)))));
     cross_term(dot(uo, apply(b.relative.A, wc)));
   }
   squares_of_cross(wb, b.com);
   Expr T = "0";
-  if (!lin.empty()) T = mul(mul("1/2", b.mass), paren(sum(lin)));
+  if (!lin.empty()) {
+    std::vector<Expr> each;
+    for (const Expr& e : lin) each.push_back(mul(mul("1/2", b.mass), paren(e)));
+    T = sum(each);
+  }
   std::vector<Expr> rot;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {

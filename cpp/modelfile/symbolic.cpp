@@ -774,6 +774,22 @@ class TapeBuilder {
       if (nodes[a].op == Op::neg) return nodes[a].a;
       if (nodes[a].op == Op::sub) return op(Op::sub, nodes[a].b, nodes[a].a);
     }
+    // Rewrites that IEEE arithmetic makes exact, so the tape's results keep every bit: x + (-y)
+    // is x - y, x - (-y) is x + y, (-x)(-y) is x y; and a + b, a b are commutative, so one
+    // operand order finds the copy of a sum or product that another definition formed in the
+    // other order (the sieve written as bodies forms some twice).
+    if (binary && nodes[b].kind == Kind::instr && nodes[b].op == Op::neg) {
+      if (o == Op::add) return op(Op::sub, a, nodes[b].a);
+      if (o == Op::sub) return op(Op::add, a, nodes[b].a);
+    }
+    if (o == Op::add && nodes[a].kind == Kind::instr && nodes[a].op == Op::neg)
+      return op(Op::sub, b, nodes[a].a);
+    if (o == Op::mul && nodes[a].kind == Kind::instr && nodes[a].op == Op::neg &&
+        nodes[b].kind == Kind::instr && nodes[b].op == Op::neg)
+      return op(Op::mul, nodes[a].a, nodes[b].a);
+    if ((o == Op::add || o == Op::mul) &&
+        (nodes[a].state != nodes[b].state ? nodes[a].state : a > b))  // constants first (finish)
+      std::swap(a, b);
     const NodeKey key{o, a, binary || o == Op::powi ? b : 0};
     auto it = dedupe_.find(key);
     if (it != dedupe_.end()) return it->second;
