@@ -1,7 +1,8 @@
 // Reading a run's time series back (sim/time_series_file.hpp), as pcsim plot and pcsim animate
 // do: a timeseries.npy made of the writer's own header (npy_header) and records reads back to
 // the rows that were written, bit for bit (NaN stays NaN, the labels their texts), and to the
-// same rows as the CSV of those rows; its CSV text is byte for byte what the CSV writer writes.
+// same rows as the CSV of those rows; its CSV text is byte for byte what the CSV writer writes;
+// a header of format 2.0 (9000 columns) reads as one of 1.0.
 // Every malformed file is refused with InputError naming the file and what was expected, never
 // read past its end: cut off anywhere (every prefix of a file), another magic string or
 // version, a header length past the end, another dtype ('>f8', '<f4', a plain '<f8' array
@@ -108,6 +109,20 @@ BOOST_AUTO_TEST_CASE(the_npy_reads_back_to_the_rows_written_and_the_csv_text_is_
     BOOST_TEST(c.label(r, 4) == t.label(r, 4));
   }
   BOOST_TEST(pcsim::sim::time_series_csv(c) == csv);
+}
+
+// 9000 columns: the writer's header takes format 2.0 (a 4-byte header length), read the same.
+BOOST_AUTO_TEST_CASE(a_version_2_header_reads_as_version_1) {
+  std::vector<std::string> names = {"t"};
+  for (int i = 0; i < 9000; ++i) names.push_back("q" + std::to_string(i) + "_d");
+  std::string b = pcsim::sim::npy_header(names, 0, 1, 2);
+  BOOST_TEST_REQUIRE(b[6] == 2);
+  std::vector<double> v(2 * names.size());
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = 0.5 * static_cast<double>(i);
+  b.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
+  const TimeSeries t = read_time_series(put("wide.npy", b), 1 << 20, kRerun);
+  BOOST_TEST(t.header == names, boost::test_tools::per_element());
+  BOOST_TEST(t.values == v, boost::test_tools::per_element());
 }
 
 BOOST_AUTO_TEST_CASE(a_file_cut_off_anywhere_is_refused_naming_the_file) {
