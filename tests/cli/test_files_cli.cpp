@@ -361,7 +361,8 @@ BOOST_AUTO_TEST_CASE(plot_of_a_half_written_run_exits_2_and_leaves_no_figure) {
 // (22 rows of the pendulum's records); a CSV run into the same directory afterwards replaces it
 // (the directory holds one run's files). pcsim plot draws the .npy run from the same data as the
 // CSV run: its plots.csv (the rows gnuplot reads) is byte for byte the CSV run's timeseries.csv,
-// its script the same but for that name; without gnuplot it says so and leaves nothing behind.
+// its script the same but for that name, its figures the same bytes; without gnuplot it says so
+// and leaves nothing behind.
 BOOST_AUTO_TEST_CASE(npy_output_replaces_the_csv_and_plots_from_the_same_data) {
   Scratch s("files_npy");
   std::ofstream(s.work / "p.toml") << files_test::pendulum_case("p", 0.2);
@@ -397,6 +398,8 @@ BOOST_AUTO_TEST_CASE(npy_output_replaces_the_csv_and_plots_from_the_same_data) {
     BOOST_TEST(script == pcsim_test::read(s.work / "csv" / "plots.gp"));
     BOOST_TEST(pngs(out).size() == pngs(s.work / "csv").size());
     BOOST_TEST(!pngs(out).empty());
+    for (const fs::path& png : pngs(out))  // the same figures, drawn from the same bytes
+      BOOST_TEST((pcsim_test::read(png) == pcsim_test::read(s.work / "csv" / png.filename())), png);
     for (const auto& e : fs::directory_iterator(out))  // no temporary left
       BOOST_TEST((e.path().filename().string()[0] != '.' || e.path().filename() == ".pcsim-output"), e.path());
   }
