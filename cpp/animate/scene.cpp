@@ -14,6 +14,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "sim/time_series_file.hpp"
 
 namespace pcsim::animate {
 
@@ -24,87 +25,8 @@ namespace {
 constexpr std::uintmax_t kMaxTableBytes = 2ull << 30;  // 2 GB: a run's longest time series
 constexpr std::uintmax_t kMaxJsonBytes = 64ull << 20;
 
-std::string read_file(const fs::path& f, std::uintmax_t limit, const std::string& what) {
-  std::error_code ec;
-  if (!fs::is_regular_file(f, ec))
-    throw InputError(f.string() + ": expected " + what + " (a regular file)");
-  const auto size = fs::file_size(f, ec);
-  if (ec || size > limit)
-    throw InputError(f.string() + ": expected " + what + " of at most " + format_number(double(limit)) + " bytes");
-  std::ifstream in(f, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (!in && !in.eof()) throw InputError(f.string() + ": cannot read " + what);
-  return s.str();
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::size_t b = 0;
-  while (true) {
-    const std::size_t e = line.find(',', b);
-    out.push_back(line.substr(b, e == std::string::npos ? std::string::npos : e - b));
-    if (e == std::string::npos) break;
-    b = e + 1;
-  }
-  return out;
-}
-
-struct Table {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> numbers;      // per row, per column (NaN for text columns)
-  std::vector<std::vector<std::string>> texts;   // per row, the mode_ columns
-  std::vector<int> text_columns;
-};
-
-Table read_table(const fs::path& f, const std::string& half_written) {
-  const std::string text = read_file(f, kMaxTableBytes, "a pcsim time series");
-  if (text.empty() || text.back() != '\n')
-    throw InputError(f.string() + ": the time series ends in a torn row; " + half_written);
-  Table t;
-  std::size_t pos = text.find('\n');
-  t.header = split(text.substr(0, pos));
-  if (t.header.empty() || t.header[0] != "t")
-    throw InputError(f.string() + ": expected a pcsim time series (a header starting with 't')");
-  for (std::size_t i = 0; i < t.header.size(); ++i)
-    if (t.header[i].rfind("mode_", 0) == 0) t.text_columns.push_back(static_cast<int>(i));
-  ++pos;
-  std::size_t line_no = 1;
-  while (pos < text.size()) {
-    const std::size_t e = text.find('\n', pos);
-    const std::string line = text.substr(pos, e - pos);
-    pos = e + 1;
-    ++line_no;
-    const auto fields = split(line);
-    if (fields.size() != t.header.size())
-      throw InputError(f.string() + ":" + std::to_string(line_no) + ": expected " +
-                       std::to_string(t.header.size()) + " fields, got " + std::to_string(fields.size()) +
-                       "; " + half_written);
-    std::vector<double> row(fields.size(), std::nan(""));
-    std::vector<std::string> modes;
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      if (k < t.text_columns.size() && t.text_columns[k] == static_cast<int>(i)) {
-        modes.push_back(fields[i]);
-        ++k;
-        continue;
-      }
-      if (fields[i].empty()) continue;  // a value the run has not (fstar in flight): NaN
-      char* end = nullptr;
-      row[i] = std::strtod(fields[i].c_str(), &end);
-      if (*end != '\0')
-        throw InputError(f.string() + ":" + std::to_string(line_no) + ": column '" + t.header[i] +
-                         "': expected a number, got '" + fields[i].substr(0, 40) + "'");
-    }
-    t.numbers.push_back(std::move(row));
-    t.texts.push_back(std::move(modes));
-  }
-  if (t.numbers.empty()) throw InputError(f.string() + ": the time series has no rows; " + half_written);
-  return t;
-}
-
 nlohmann::json read_json(const fs::path& f, const std::string& half_written) {
-  const std::string text = read_file(f, kMaxJsonBytes, "a pcsim summary");
+  const std::string text = sim::read_run_file(f, kMaxJsonBytes, "a pcsim summary");
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception&) {
@@ -116,12 +38,12 @@ std::vector<Event> read_events(const fs::path& f) {
   std::vector<Event> out;
   std::error_code ec;
   if (!fs::exists(f, ec)) return out;
-  const std::string text = read_file(f, kMaxTableBytes, "a pcsim events table");
+  const std::string text = sim::read_run_file(f, kMaxTableBytes, "a pcsim events table");
   std::istringstream in(text);
   std::string line;
   std::getline(in, line);
   while (std::getline(in, line)) {
-    const auto fields = split(line);
+    const auto fields = sim::split_csv_fields(line);
     if (fields.size() < 5) continue;
     Event e;
     e.t = std::strtod(fields[0].c_str(), nullptr);
@@ -146,7 +68,7 @@ Scene read_scene(const fs::path& dir, int max_frames) {
   s.steady = !fs::exists(run_sum, ec) && fs::exists(steady_sum, ec);
   if (!fs::exists(run_sum, ec) && !s.steady)
     throw InputError(d + ": not a pcsim run directory (expected summary.json from `pcsim run` or "
-                         "steady.json from `pcsim steady`, with timeseries.csv and model.toml)");
+                         "steady.json from `pcsim steady`, with timeseries.csv or timeseries.npy and model.toml)");
   nlohmann::json sum = read_json(s.steady ? steady_sum : run_sum, rerun);
   if (!sum.is_object() || !sum.contains("complete") || sum["complete"] != true)
     throw InputError((s.steady ? steady_sum : run_sum).string() +
@@ -171,11 +93,9 @@ Scene read_scene(const fs::path& dir, int max_frames) {
     s.model_file = first.rfind(prefix, 0) == 0 ? first.substr(prefix.size()) : model_file.string();
   }
 
-  const fs::path csv = dir / "timeseries.csv";
-  if (!fs::exists(csv) && fs::exists(dir / "timeseries.npy"))
-    throw InputError(d + ": the run wrote timeseries.npy (output.format = \"npy\"), and pcsim animate "
-                     "reads timeseries.csv: run it with output.format = \"csv\" (the default) to animate it");
-  const Table table = read_table(csv, rerun);
+  // The time series, timeseries.csv or timeseries.npy (output.format = "npy"): the same rows.
+  const sim::TimeSeries table = sim::read_time_series(sim::time_series_file(dir), kMaxTableBytes, rerun);
+  const std::string series_file = table.file.string();
   std::map<std::string, int> col;
   for (std::size_t i = 0; i < table.header.size(); ++i) col[table.header[i]] = static_cast<int>(i);
 
@@ -196,7 +116,7 @@ Scene read_scene(const fs::path& dir, int max_frames) {
   for (std::size_t i = 0; i < n_q; ++i) {
     const auto it = col.find(names[i]);
     if (it == col.end())
-      throw InputError(csv.string() + ": no column '" + names[i] + "', which the model '" + s.model +
+      throw InputError(series_file + ": no column '" + names[i] + "', which the model '" + s.model +
                        "' of model.toml has; the directory mixes two runs: rerun the case");
     input_col.push_back(it->second);
   }
@@ -212,18 +132,19 @@ Scene read_scene(const fs::path& dir, int max_frames) {
     if (sh.kind != modelfile::DrawShape::Kind::arrow) continue;
     const auto it = col.find(sh.force);
     if (it == col.end())
-      throw InputError(csv.string() + ": no column '" + sh.force + "' (" + sh.key + ".force)");
+      throw InputError(series_file + ": no column '" + sh.force + "' (" + sh.key + ".force)");
     force_col.push_back(it->second);
   }
-  for (int c : table.text_columns) s.contacts.push_back(table.header[static_cast<std::size_t>(c)].substr(5));
+  const std::size_t first_label = table.header.size() - static_cast<std::size_t>(table.label_columns);
+  for (std::size_t c = first_label; c < table.header.size(); ++c) s.contacts.push_back(table.header[c].substr(5));
 
   // Every row drawn (the moving mean needs them all).
-  const std::size_t N = table.numbers.size(), K = ev.size(), P = s.spec.points.size();
+  const std::size_t N = table.rows(), K = ev.size(), P = s.spec.points.size();
   s.rows = N;
   std::vector<double> all(N * K);
   std::vector<double> times(N);
   for (std::size_t r = 0; r < N; ++r) {
-    for (std::size_t i = 0; i < n_q; ++i) inputs[i] = table.numbers[r][static_cast<std::size_t>(input_col[i])];
+    for (std::size_t i = 0; i < n_q; ++i) inputs[i] = table.at(r, static_cast<std::size_t>(input_col[i]));
     times[r] = inputs[0];
     ev.evaluate(inputs, &all[r * K]);
   }
@@ -281,9 +202,11 @@ Scene read_scene(const fs::path& dir, int max_frames) {
     s.values.push_back(std::move(v));
     s.mean.push_back(std::move(m));
     std::vector<double> f;
-    for (int c : force_col) f.push_back(table.numbers[r][static_cast<std::size_t>(c)]);
+    for (int c : force_col) f.push_back(table.at(r, static_cast<std::size_t>(c)));
     s.forces.push_back(std::move(f));
-    s.modes.push_back(table.texts[r]);
+    std::vector<std::string> modes;
+    for (std::size_t c = first_label; c < table.header.size(); ++c) modes.push_back(table.label(r, c));
+    s.modes.push_back(std::move(modes));
   }
   return s;
 }

@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@
 #include "common/gnuplot.hpp"
 #include "modes/cli/plot_modes.hpp"
 #include "sim/client.hpp"
+#include "sim/time_series_file.hpp"
 
 namespace {
 
@@ -87,6 +89,31 @@ std::vector<Band> mode_bands(const fs::path& events, const nlohmann::json& s, do
   return out;
 }
 
+// The time series as gnuplot reads it: timeseries.csv itself, or the rows of timeseries.npy
+// (output.format = "npy") as the same CSV text, written beside the figures as plots.csv.
+struct PlotSeries {
+  std::vector<std::string> header;
+  std::string data_name;
+  std::optional<pcsim::cli::PlotData> data;
+};
+
+PlotSeries plot_series(const fs::path& file) {
+  PlotSeries p;
+  if (file.extension() != ".npy") {
+    p.header = pcsim::cli::check_plot_table(file, pcsim::cli::kMaxPlotTableBytes, true).header;
+    p.data_name = file.filename().string();
+    return p;
+  }
+  const pcsim::sim::TimeSeries rows = pcsim::sim::read_time_series(
+      file, pcsim::cli::kMaxPlotTableBytes,
+      "the directory looks half-written (a run that was stopped, or a copy in progress): rerun "
+      "the command that wrote it");
+  p.header = rows.header;
+  p.data_name = "plots.csv";
+  p.data = pcsim::cli::PlotData{p.data_name, pcsim::sim::time_series_csv(rows)};
+  return p;
+}
+
 void plot_run(const std::string& dir_text);
 
 void plot(const std::string& dir_text) {
@@ -115,19 +142,15 @@ void plot_run(const std::string& dir_text) {
   const fs::path dir(dir_text);
   // `pcsim run` writes summary.json; `pcsim steady` writes steady.json, whose "summary" is the
   // same summary of one period of the orbit.
-  const fs::path csv = dir / "timeseries.csv", run_sum = dir / "summary.json",
+  const fs::path series = pcsim::sim::time_series_file(dir), run_sum = dir / "summary.json",
                  steady_sum = dir / "steady.json";
   const bool steady = !fs::exists(run_sum) && fs::exists(steady_sum);
   const fs::path sum = steady ? steady_sum : run_sum;
-  if (!fs::exists(csv) && fs::exists(dir / "timeseries.npy"))
-    throw pcsim::InputError(dir_text + ": the run wrote timeseries.npy (output.format = \"npy\"), and "
-                                       "pcsim plot reads timeseries.csv: run it with output.format = "
-                                       "\"csv\" (the default) to plot it, or load the .npy with numpy.load");
-  if (!fs::exists(csv) || !fs::exists(sum))
-    throw pcsim::InputError(dir_text + ": expected the output of `pcsim run` (timeseries.csv "
-                                       "and summary.json), `pcsim steady` (timeseries.csv and "
-                                       "steady.json) or `pcsim response` (response.csv and "
-                                       "response.json)");
+  if (!fs::exists(series) || !fs::exists(sum))
+    throw pcsim::InputError(dir_text + ": expected the output of `pcsim run` (timeseries.csv or "
+                                       "timeseries.npy, and summary.json), `pcsim steady` (the "
+                                       "same with steady.json) or `pcsim response` (response.csv "
+                                       "and response.json)");
   nlohmann::json s = pcsim::cli::read_plot_json(sum, pcsim::cli::kMaxPlotJsonBytes);
   if (steady) {
     if (!s.is_object() || !s.contains("summary"))
@@ -137,10 +160,10 @@ void plot_run(const std::string& dir_text) {
   if (!s.is_object()) throw pcsim::InputError(sum.string() + ": not a pcsim summary (not a JSON object)");
   // The time series checked whole (regular file, bounded size, no torn or short row) before
   // gnuplot sees it: a half-written directory is refused, not half-drawn.
-  const pcsim::cli::TableShape shape = pcsim::cli::check_plot_table(csv, pcsim::cli::kMaxPlotTableBytes, true);
+  const PlotSeries table = plot_series(series);
   std::map<std::string, int> col;
-  for (std::size_t i = 0; i < shape.header.size(); ++i) col[shape.header[i]] = static_cast<int>(i) + 1;
-  if (!col.count("t")) throw pcsim::InputError(csv.string() + ": header has no column 't'");
+  for (std::size_t i = 0; i < table.header.size(); ++i) col[table.header[i]] = static_cast<int>(i) + 1;
+  if (!col.count("t")) throw pcsim::InputError(series.string() + ": header has no column 't'");
 
   const double w0 = s.at("window").at(0).get<double>(), w1 = s.at("window").at(1).get<double>();
   const std::string name = s.value("case", std::string("case"));
@@ -150,7 +173,7 @@ void plot_run(const std::string& dir_text) {
   if (const auto client = pcsim::sim::find_client(s.value("model", std::string()))) {
     std::set<std::string> columns;
     for (const auto& [cname, idx] : col) columns.insert(cname);
-    figs = client->figures(s, columns, csv.string());
+    figs = client->figures(s, columns, series.string());
   }
   if (figs.empty()) {
     // Any model: the coordinates, the reactions that are not identically zero, and the
@@ -269,7 +292,7 @@ void plot_run(const std::string& dir_text) {
       g << "plot ";
       bool first = true;
       for (const auto& [c, legend] : fig.curves) {
-        g << (first ? "" : ", ") << "'timeseries.csv' every ::1 using " << col["t"] << ":";
+        g << (first ? "" : ", ") << quoted(table.data_name) << " every ::1 using " << col["t"] << ":";
         if (fig.offset != 0.0 || fig.scale != 1.0)
           g << "(($" << col[c] << " - " << num_exact(fig.offset) << ")*" << num_exact(fig.scale) << ")";
         else
@@ -292,7 +315,7 @@ void plot_run(const std::string& dir_text) {
   }
   std::vector<std::string> files;
   for (const auto& fig : figs) files.push_back(fig.file);
-  pcsim::cli::run_plot_script(dir, g.str(), files);
+  pcsim::cli::run_plot_script(dir, g.str(), files, table.data ? &*table.data : nullptr);
   std::printf("pcsim plot: wrote");
   for (const auto& fig : figs) std::printf(" %s", (dir / fig.file).string().c_str());
   std::printf("\n  (gnuplot script: %s)\n", (dir / "plots.gp").string().c_str());

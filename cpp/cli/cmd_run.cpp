@@ -55,13 +55,14 @@ void run(const RunArgs& a) {
       std::printf(", %s held by %.4g", name.c_str(), force);
     std::printf("\n");
   }
+  const char* series = c.setup.npy ? "timeseries.npy" : "timeseries.csv";  // output.format
   if (!result.switching.is_null() || (!result.rank.is_null() && !result.rank["changes"].empty()))
     std::printf("  wrote %s, %s and %s\n", (*options.out_dir / "summary.json").string().c_str(),
-                (*options.out_dir / "timeseries.csv").string().c_str(),
+                (*options.out_dir / series).string().c_str(),
                 (*options.out_dir / "events.csv").string().c_str());
   else
     std::printf("  wrote %s and %s\n", (*options.out_dir / "summary.json").string().c_str(),
-                (*options.out_dir / "timeseries.csv").string().c_str());
+                (*options.out_dir / series).string().c_str());
 }
 
 void setup(CLI::App& app) {

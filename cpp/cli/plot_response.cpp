@@ -179,26 +179,34 @@ TableShape check_plot_table(const fs::path& file, std::uint64_t max_bytes, bool 
   return shape;
 }
 
-std::string temporary_png(const std::string& figure) {
+std::string temporary_name(const std::string& figure) {
   return "." + figure + ".part" + std::to_string(::getpid());
 }
 
 void run_plot_script(const fs::path& dir, const std::string& user_script,
-                     const std::vector<std::string>& figures) {
+                     const std::vector<std::string>& figures, const PlotData* data) {
   std::string script = user_script;
+  std::vector<std::string> outputs = figures;  // what the run moves into dir
   for (const auto& f : figures) {
     const std::string line = "set output " + gnuplot_quoted(f) + "\n";
     const auto at = script.find(line);
     if (at == std::string::npos) throw std::logic_error("plot script without the output " + f);
-    script.replace(at, line.size(), "set output " + gnuplot_quoted(temporary_png(f)) + "\n");
+    script.replace(at, line.size(), "set output " + gnuplot_quoted(temporary_name(f)) + "\n");
   }
   if (!find_on_path("gnuplot"))
     throw InputError("pcsim plot needs gnuplot, which is not on PATH: install it (Debian: "
                      "apt-get install gnuplot-nox, or run scripts/install-deps.sh)");
+  if (data) {
+    const std::string from = gnuplot_quoted(data->name), to = gnuplot_quoted(temporary_name(data->name));
+    for (auto at = script.find(from); at != std::string::npos; at = script.find(from, at + to.size()))
+      script.replace(at, from.size(), to);
+    outputs.push_back(data->name);
+  }
   auto remove_temporaries = [&] {
     std::error_code ec;
-    for (const auto& f : figures) fs::remove(dir / temporary_png(f), ec);
+    for (const auto& f : outputs) fs::remove(dir / temporary_name(f), ec);
   };
+  if (data) write_file_atomically(dir / temporary_name(data->name), data->content);
   int status = -1;
   try {
     status = run_gnuplot(dir, script);
@@ -212,8 +220,8 @@ void run_plot_script(const fs::path& dir, const std::string& user_script,
                              ", its messages above) on the files of " + dir.string() +
                              "; no figure was written");
   }
-  for (const auto& f : figures)
-    if (std::rename((dir / temporary_png(f)).c_str(), (dir / f).c_str()) != 0) {
+  for (const auto& f : outputs)
+    if (std::rename((dir / temporary_name(f)).c_str(), (dir / f).c_str()) != 0) {
       const std::string msg = errno_message("cannot move the figure into", dir / f);
       remove_temporaries();
       throw IoError(msg);

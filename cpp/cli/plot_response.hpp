@@ -40,8 +40,13 @@ TableShape check_plot_table(const std::filesystem::path& file, std::uint64_t max
 /// figure only when gnuplot succeeds; otherwise the temporaries are removed and
 /// std::runtime_error is thrown, so a failed plot leaves no figure behind. The script is kept as
 /// dir/plots.gp (rerun it with `cd DIR && gnuplot plots.gp`).
+/// `data`, when given, is a data file the script reads (by its quoted name): written under a
+/// temporary name for gnuplot and moved into dir with the figures, or removed with them.
+struct PlotData {
+  std::string name, content;
+};
 void run_plot_script(const std::filesystem::path& dir, const std::string& script,
-                     const std::vector<std::string>& figures);
+                     const std::vector<std::string>& figures, const PlotData* data = nullptr);
 
 /// True if dir holds a `pcsim response` output (response.csv and response.json).
 bool is_response_dir(const std::filesystem::path& dir);

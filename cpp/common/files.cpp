@@ -206,13 +206,14 @@ bool pcsim_writes(const std::string& command, const std::string& name) {
       if (name == n) return true;
     return false;
   };
-  // pcsim plot's figures and script live in the directory they plot.
-  const bool plot = name == "plots.gp" || (ends_with(name, ".png") && name[0] != '.') ||
+  // pcsim plot's figures, script and data (plots.csv: a timeseries.npy's rows as the text
+  // gnuplot reads) live in the directory they plot.
+  const bool plot = name == "plots.gp" || name == "plots.csv" || (ends_with(name, ".png") && name[0] != '.') ||
                     // the model it ran, and pcsim animate's page and video (issue 26)
                     name == "model.toml" || name == "animation.html" || name == "animation.mp4" ||
                     name == "animation.gif";
   if (command == "run") return plot || one_of({"summary.json", "timeseries.csv", "timeseries.npy", "events.csv"});
-  if (command == "steady") return plot || one_of({"steady.json", "timeseries.csv", "events.csv"});
+  if (command == "steady") return plot || one_of({"steady.json", "timeseries.csv", "timeseries.npy", "events.csv"});
   if (command == "response") return plot || one_of({"response.csv", "response.json"});
   if (command == "modes")
     return plot || one_of({"modes.json", "modes.csv", "modes_vary.csv", "modes_vary.json"});

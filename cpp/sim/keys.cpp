@@ -119,8 +119,8 @@ std::vector<KeySpec> table() {
   keys.push_back(choice("output", "format",
                         "pcsim run's time-series file: timeseries.csv (shortest round-trip decimals) or "
                         "timeseries.npy (NumPy's array format: each value's 8 bytes, for large runs "
-                        "read with numpy.load; pcsim plot and animate read the CSV; pcsim steady's "
-                        "one period is always CSV)",
+                        "read with numpy.load; pcsim steady writes its one period the same way, and "
+                        "pcsim plot and animate read either)",
                         {"csv", "npy"}, "csv"));
   {
     // Only for models with an excitation period (the schema leaves it out for others).

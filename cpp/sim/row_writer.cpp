@@ -50,6 +50,34 @@ std::string npy_header(const std::vector<std::string>& names, int label_columns,
   return h + dict;
 }
 
+std::string csv_header_line(const std::vector<std::string>& columns) {
+  std::string h;
+  for (std::size_t i = 0; i < columns.size(); ++i) h += (i ? "," : "") + columns[i];
+  return h + '\n';
+}
+
+std::size_t csv_row_room(int columns, int label_columns, const std::vector<std::string>& labels) {
+  std::size_t room = static_cast<std::size_t>(columns) * (kMaxNumberChars + 1) + 1;
+  for (const auto& l : labels) room += static_cast<std::size_t>(label_columns) * l.size();
+  return room;
+}
+
+char* write_csv_row(char* p, const double* row, int columns, int label_columns,
+                    const std::vector<std::string>& labels) {
+  const int numbers = columns - label_columns;
+  for (int j = 0; j < columns; ++j) {
+    if (j) *p++ = ',';
+    if (j >= numbers) {
+      const std::string& l = labels.at(static_cast<std::size_t>(row[j]));
+      p = std::copy(l.begin(), l.end(), p);
+    } else {
+      p = write_csv_number(p, row[j]);  // an undefined value (f* in flight) is an empty field
+    }
+  }
+  *p++ = '\n';
+  return p;
+}
+
 RowWriter::RowWriter(OutputStream& out, int columns, int label_columns, std::vector<std::string> labels)
     : out_(out), columns_(columns), label_columns_(label_columns), labels_(std::move(labels)) {
   block_.reserve(kBlockRows * static_cast<std::size_t>(columns));
@@ -122,25 +150,10 @@ void RowWriter::work() {
       }
       std::string& text = out_.buffer();
       // A row is formatted into line_ (room for every field at its longest) and appended whole.
-      std::size_t room = static_cast<std::size_t>(columns_) * (kMaxNumberChars + 1) + 1;
-      for (const auto& l : labels_) room += static_cast<std::size_t>(label_columns_) * l.size();
+      const std::size_t room = csv_row_room(columns_, label_columns_, labels_);
       if (line_.size() < room) line_.resize(room);
-      const int numbers = columns_ - label_columns_;
-      for (std::size_t i = 0; i < rows.size(); i += static_cast<std::size_t>(columns_)) {
-        const double* row = rows.data() + i;
-        char* p = line_.data();
-        for (int j = 0; j < columns_; ++j) {
-          if (j) *p++ = ',';
-          if (j >= numbers) {
-            const std::string& l = labels_.at(static_cast<std::size_t>(row[j]));
-            p = std::copy(l.begin(), l.end(), p);
-          } else {
-            p = write_csv_number(p, row[j]);  // an undefined value (f* in flight) is an empty field
-          }
-        }
-        *p++ = '\n';
-        text.append(line_.data(), p);
-      }
+      for (std::size_t i = 0; i < rows.size(); i += static_cast<std::size_t>(columns_))
+        text.append(line_.data(), write_csv_row(line_.data(), rows.data() + i, columns_, label_columns_, labels_));
       out_.maybe_flush();
     } catch (...) {
       error_ = std::current_exception();

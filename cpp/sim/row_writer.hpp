@@ -25,6 +25,19 @@ namespace pcsim::sim {
 std::string npy_header(const std::vector<std::string>& names, int label_columns, int label_width,
                        unsigned long long rows);
 
+/// The header line of timeseries.csv: the column names separated by commas, and '\n'.
+std::string csv_header_line(const std::vector<std::string>& columns);
+
+/// The room write_csv_row needs for a row of `columns` values whose last `label_columns` are
+/// indices into `labels`.
+std::size_t csv_row_room(int columns, int label_columns, const std::vector<std::string>& labels);
+
+/// Writes one row of timeseries.csv at p (room: csv_row_room) and returns its end, after the
+/// '\n': the numbers as the shortest decimals that read back to the same double (an undefined
+/// value an empty field), the last `label_columns` values as the texts of `labels` they index.
+char* write_csv_row(char* p, const double* row, int columns, int label_columns,
+                    const std::vector<std::string>& labels);
+
 class RowWriter {
  public:
   /// Writes to `out` (already holding the header) rows of `columns` numbers. With `labels`,

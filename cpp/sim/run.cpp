@@ -481,10 +481,7 @@ RunResult run_case(const Case& c, const RunOptions& options) {
   if (dir) {
     csv = dir->open(set.npy ? "timeseries.npy" : "timeseries.csv");
     if (!set.npy) {  // the .npy header is the writer's (it carries the row count)
-      std::string& h = csv.buffer();
-      const auto cols = timeseries_columns(c);
-      for (std::size_t i = 0; i < cols.size(); ++i) h += (i ? "," : "") + cols[i];
-      h += '\n';
+      csv.buffer() += csv_header_line(timeseries_columns(c));
     }
     // The model the run ran, as a model file (issue 26: pcsim animate draws it from there).
     const std::string model_text = source.definition_text();

@@ -2,7 +2,7 @@
 // declared excitation period), its slow coordinates held, found by Newton shooting from the
 // case's start (or its static equilibrium), then one period of it run through the same run
 // layer as `pcsim run` (the same summary, the model client's verdicts and margins), and the
-// results written as steady.json and timeseries.csv.
+// results written as steady.json and timeseries.csv (timeseries.npy with output.format = "npy").
 #pragma once
 
 #include <filesystem>
@@ -22,7 +22,7 @@ namespace pcsim::steady {
 
 struct SteadyOptions {
   int periods = 1;  ///< the orbit's period in excitation periods (k)
-  /// Where to write steady.json and timeseries.csv (nullopt: nowhere). The directory is
+  /// Where to write steady.json and the time series (nullopt: nowhere). The directory is
   /// written as a whole (common/files.hpp).
   std::optional<std::filesystem::path> out_dir;
   OdeMethod method = OdeMethod::automatic;  ///< the integrator of the shooting
@@ -87,7 +87,8 @@ class CaseOrbit {
 
 /// The orbit's summary over one period: the case run from the periodic state for k T with the
 /// holding forces applied (sim::run_case, the window = the whole period), optionally writing
-/// timeseries.csv into `dir`. Returns the run's result.
+/// the time series into `dir` (timeseries.csv, or timeseries.npy with output.format = "npy",
+/// by pcsim run's writer). Returns the run's result.
 sim::RunResult period_summary(const CaseOrbit& orbit, const OrbitResult& result,
                               OutputDirectory* dir = nullptr);
 

@@ -91,6 +91,33 @@ BOOST_AUTO_TEST_CASE(every_case_animates_after_pcsim_run) {
   BOOST_TEST(n >= (pcsim_test::slow_build() ? (PCSIM_WITH_SIEVE ? 6 : 4) : PCSIM_WITH_SIEVE ? 8 : 5));
 }
 
+// output.format = "npy": pcsim animate reads timeseries.npy to the same rows as the CSV run's
+// timeseries.csv, so the page is byte for byte the CSV run's (every number embedded in it, the
+// contact modes of a switching run read back from their labels).
+BOOST_AUTO_TEST_CASE(an_npy_run_animates_to_the_page_of_its_csv_run) {
+  pcsim_test::TempDir scratch("animate_npy");
+  std::ofstream(scratch.path / "pend_case.toml")
+      << "model = \"pendulum\"\n[initial]\nx = 0.6\ny = -0.8\n[solver]\nt_end = 0.5\n";
+  for (const fs::path& file : {scratch.path / "pend_case.toml", kSource / "cases" / "bouncing_ball.toml"}) {
+    BOOST_TEST_CONTEXT(file.stem().string()) {
+      std::string page[2];
+      for (int npy = 0; npy < 2; ++npy) {
+        const fs::path out = scratch.path / (file.stem().string() + (npy ? "_npy" : "_csv"));
+        const Result r = run_pcsim("run '" + file.string() + "' --out '" + out.string() + "' " + short_run(file) +
+                                       (npy ? " --set output.format=npy" : ""),
+                                   scratch.path);
+        BOOST_TEST_REQUIRE(r.status == 0, r.out);
+        BOOST_TEST(fs::exists(out / (npy ? "timeseries.npy" : "timeseries.csv")));
+        const Result a = run_pcsim("animate '" + out.string() + "'", scratch.path);
+        BOOST_TEST_REQUIRE(a.status == 0, a.out);
+        page[npy] = pcsim_test::read(out / "animation.html");
+      }
+      BOOST_TEST(!page[0].empty());
+      BOOST_TEST((page[0] == page[1]));
+    }
+  }
+}
+
 BOOST_AUTO_TEST_CASE(bad_input_exits_2_and_writes_nothing) {
   pcsim_test::TempDir scratch("animate_bad");
   const fs::path w = scratch.path;

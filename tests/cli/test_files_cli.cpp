@@ -359,13 +359,16 @@ BOOST_AUTO_TEST_CASE(plot_of_a_half_written_run_exits_2_and_leaves_no_figure) {
 // output.format = "npy": the run writes timeseries.npy and no timeseries.csv; the header's row
 // count, written at the end, is the CSV run's number of rows and the data fill the file exactly
 // (22 rows of the pendulum's records); a CSV run into the same directory afterwards replaces it
-// (the directory holds one run's files); pcsim plot and animate refuse the .npy directory with
-// exit 2, saying what to do, and write nothing.
-BOOST_AUTO_TEST_CASE(npy_output_replaces_the_csv_and_plot_and_animate_say_they_read_the_csv) {
+// (the directory holds one run's files). pcsim plot draws the .npy run from the same data as the
+// CSV run: its plots.csv (the rows gnuplot reads) is byte for byte the CSV run's timeseries.csv,
+// its script the same but for that name, its figures the same bytes; without gnuplot it says so
+// and leaves nothing behind.
+BOOST_AUTO_TEST_CASE(npy_output_replaces_the_csv_and_plots_from_the_same_data) {
   Scratch s("files_npy");
   std::ofstream(s.work / "p.toml") << files_test::pendulum_case("p", 0.2);
   const Result r = run_pcsim({"run", "p.toml", "--set", "output.format=npy"}, s.work);
   BOOST_TEST_REQUIRE(r.status == 0, r.out);
+  BOOST_TEST(has(r.out, "timeseries.npy"), r.out);
   const fs::path out = s.work / "out" / "p";
   BOOST_TEST(!fs::exists(out / "timeseries.csv"));
   const std::string npy = pcsim_test::read(out / "timeseries.npy");
@@ -377,16 +380,102 @@ BOOST_AUTO_TEST_CASE(npy_output_replaces_the_csv_and_plot_and_animate_say_they_r
   BOOST_TEST(has(dict, "'shape': (                  21,)"), dict);  // t = 0, 0.01, ..., 0.2
   const long fields = std::count(dict.begin(), dict.end(), '(') - 1;  // '(' of each field, and of shape
   BOOST_TEST(npy.size() == header + 21u * 8u * static_cast<std::size_t>(fields));
-  for (const char* cmd : {"plot", "animate"}) {
-    const Result p = run_pcsim({cmd, "out/p"}, s.work);
-    BOOST_TEST(p.status == 2, p.out);
-    BOOST_TEST(has(p.out, "the run wrote timeseries.npy (output.format = \"npy\")"), p.out);
-    BOOST_TEST(!fs::exists(out / "animation.html"));
-    BOOST_TEST(pngs(out).empty());
+  const Result csv_run = run_pcsim({"run", "p.toml", "--out", "csv"}, s.work);
+  BOOST_TEST_REQUIRE(csv_run.status == 0, csv_run.out);
+  const Result missing = pcsim_test::sh("PATH=/nonexistent '" + pcsim_test::exe() + "' plot out/p", s.work);
+  BOOST_TEST(missing.status == 2, missing.out);
+  BOOST_TEST(has(missing.out, "needs gnuplot"), missing.out);
+  BOOST_TEST(pngs(out).empty());
+  BOOST_TEST(!fs::exists(out / "plots.csv"));
+  if (gnuplot_available()) {
+    const Result p = run_pcsim({"plot", "out/p"}, s.work), c = run_pcsim({"plot", "csv"}, s.work);
+    BOOST_TEST_REQUIRE(p.status == 0, p.out);
+    BOOST_TEST_REQUIRE(c.status == 0, c.out);
+    BOOST_TEST(pcsim_test::read(out / "plots.csv") == pcsim_test::read(s.work / "csv" / "timeseries.csv"));
+    std::string script = pcsim_test::read(out / "plots.gp");
+    for (auto at = script.find("'plots.csv'"); at != std::string::npos; at = script.find("'plots.csv'", at))
+      script.replace(at, 11, "'timeseries.csv'");
+    BOOST_TEST(script == pcsim_test::read(s.work / "csv" / "plots.gp"));
+    BOOST_TEST(pngs(out).size() == pngs(s.work / "csv").size());
+    BOOST_TEST(!pngs(out).empty());
+    for (const fs::path& png : pngs(out))  // the same figures, drawn from the same bytes
+      BOOST_TEST((pcsim_test::read(png) == pcsim_test::read(s.work / "csv" / png.filename())), png);
+    for (const auto& e : fs::directory_iterator(out))  // no temporary left
+      BOOST_TEST((e.path().filename().string()[0] != '.' || e.path().filename() == ".pcsim-output"), e.path());
   }
   const Result c = run_pcsim({"run", "p.toml"}, s.work);
   BOOST_TEST_REQUIRE(c.status == 0, c.out);
   BOOST_TEST(fs::exists(out / "timeseries.csv"));
   BOOST_TEST(!fs::exists(out / "timeseries.npy"));
+  BOOST_TEST(s.user_files_intact());
+}
+
+// A timeseries.npy that is not what the run wrote (cut off in its header or its rows, another
+// dtype, Fortran order, a 2-D shape, a row count the file does not hold or whose byte count
+// overflows): pcsim plot and pcsim animate exit 2 naming the file and what they expected, and
+// write nothing (no figure, no plots.csv, no page).
+BOOST_AUTO_TEST_CASE(plot_and_animate_refuse_a_bad_npy_naming_it_and_write_nothing) {
+  Scratch s("files_npy_bad");
+  std::ofstream(s.work / "p.toml") << files_test::pendulum_case("p", 0.2);
+  BOOST_TEST_REQUIRE(run_pcsim({"run", "p.toml", "--set", "output.format=npy", "--out", "r"}, s.work).status == 0);
+  const fs::path f = s.work / "r" / "timeseries.npy";
+  const std::string good = pcsim_test::read(f);
+  const std::size_t header = 10 + (static_cast<unsigned char>(good[8]) | static_cast<unsigned char>(good[9]) << 8);
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string b = good;
+    const auto at = b.find(from);
+    BOOST_TEST_REQUIRE(at < header, from);
+    b.replace(at, from.size(), to + std::string(from.size() - to.size(), ' '));  // the header's length kept
+    return b;
+  };
+  struct Bad {
+    std::string bytes, expect;
+  };
+  const std::vector<Bad> cases = {
+      {good.substr(0, 7), "cut off within its first 10 bytes"},
+      {good.substr(0, header / 2), "is cut off after"},
+      {good.substr(0, good.size() - 5), "the file holds"},
+      {replaced("('x', '<f8')", "('x', '<i8')"), "expected the type '<f8'"},
+      {replaced("'fortran_order': False", "'fortran_order': True"), "'fortran_order': False"},
+      {replaced("(                  21,)", "(21, 3)"), "one dimension (rows,)"},
+      {replaced("(                  21,)", "(22,)"), "header says 22 rows"},
+      {replaced("(                  21,)", "(18446744073709551615,)"), "header says 18446744073709551615 rows"},
+  };
+  for (const auto& b : cases)
+    for (const char* cmd : {"plot", "animate"}) {
+      std::ofstream(f, std::ios::binary | std::ios::trunc) << b.bytes;
+      const Result r = run_pcsim({cmd, "r"}, s.work);
+      BOOST_TEST(r.status == 2, cmd << ": " << r.out);
+      BOOST_TEST(has(r.out, "r/timeseries.npy: "), cmd << ": " << r.out);
+      BOOST_TEST(has(r.out, b.expect), cmd << ": " << b.expect << " | " << r.out);
+      BOOST_TEST(pngs(s.work / "r").empty());
+      BOOST_TEST(!fs::exists(s.work / "r" / "plots.csv"));
+      BOOST_TEST(!fs::exists(s.work / "r" / "animation.html"));
+    }
+  BOOST_TEST(s.user_files_intact());
+}
+
+// pcsim steady honours output.format = "npy" as run does: its one period is timeseries.npy (no
+// timeseries.csv), the same rows as the CSV steady run's (plot's plots.csv, the rows read back,
+// is byte for byte that run's timeseries.csv), the directory can be written again, and the
+// report names the file.
+BOOST_AUTO_TEST_CASE(steady_writes_its_period_as_npy_with_output_format_npy) {
+  Scratch s("files_steady_npy");
+  const std::string duffing = std::string(PCSIM_SOURCE_DIR) + "/tests/steady/duffing.toml";
+  const Result n = run_pcsim({"steady", duffing, "--set", "output.format=npy", "--out", "n"}, s.work);
+  BOOST_TEST_REQUIRE(n.status == 0, n.out);
+  BOOST_TEST(has(n.out, "n/timeseries.npy"), n.out);
+  BOOST_TEST(fs::exists(s.work / "n" / "timeseries.npy"));
+  BOOST_TEST(!fs::exists(s.work / "n" / "timeseries.csv"));
+  const Result again = run_pcsim({"steady", duffing, "--set", "output.format=npy", "--out", "n"}, s.work);
+  BOOST_TEST_REQUIRE(again.status == 0, again.out);
+  const Result c = run_pcsim({"steady", duffing, "--out", "c"}, s.work);
+  BOOST_TEST_REQUIRE(c.status == 0, c.out);
+  BOOST_TEST(fs::exists(s.work / "c" / "timeseries.csv"));
+  if (gnuplot_available()) {
+    const Result p = run_pcsim({"plot", "n"}, s.work);
+    BOOST_TEST_REQUIRE(p.status == 0, p.out);
+    BOOST_TEST(pcsim_test::read(s.work / "n" / "plots.csv") == pcsim_test::read(s.work / "c" / "timeseries.csv"));
+  }
   BOOST_TEST(s.user_files_intact());
 }

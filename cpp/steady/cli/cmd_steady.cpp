@@ -1,7 +1,8 @@
 // `pcsim steady CASE.toml [--set KEY=VALUE]... [--out DIR] [--periods k] [--method M]`: the
 // periodic steady state of a case by Newton shooting (docs/steady.md): steady.json (the orbit,
 // Floquet multipliers, Newton history, slow coordinates, and the summary of one period) and
-// one period of timeseries.csv, written as a whole; the engineer's report.
+// one period of the time series (timeseries.csv, or timeseries.npy with output.format = "npy",
+// as pcsim run writes it), written as a whole; the engineer's report.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -48,7 +49,7 @@ void run(const SteadyArgs& a) {
   const nlohmann::json s = pcsim::steady::steady_case(c, o);
   std::fputs(pcsim::steady::steady_report(c, s).c_str(), stdout);
   std::printf("  wrote %s and %s\n", (*o.out_dir / "steady.json").string().c_str(),
-              (*o.out_dir / "timeseries.csv").string().c_str());
+              (*o.out_dir / (c.setup.npy ? "timeseries.npy" : "timeseries.csv")).string().c_str());
 }
 
 void setup(CLI::App& app) {
@@ -56,7 +57,8 @@ void setup(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "steady", "The periodic steady state of a case by Newton shooting: the orbit, its Floquet "
                 "multipliers and stability, and the summary of one period (as pcsim run reports "
-                "it); writes DIR/steady.json and one period of DIR/timeseries.csv");
+                "it); writes DIR/steady.json and one period of DIR/timeseries.csv (timeseries.npy "
+                "with output.format = \"npy\")");
   sub->add_option("case", args->case_file, "the case file, e.g. cases/sieve_1995.toml")->required();
   sub->add_option("--set", args->sets, "override a case key by its dotted path (repeatable)")
       ->type_name("KEY=VALUE")
