@@ -235,7 +235,20 @@ ModelIssue solve_reactions(Dynamics& d, const ContactSet& cs, const Layout& L, c
         // v_t2); while |v| is at rounding level (a slide that starts from rest) along the
         // segment's direction, which v/|v| approaches continuously.
         sf.friction_row2 = L.friction2_pos[c];
-        Eigen::Vector2d v = cs.vt2(c, t, q, qd);
+        // The two friction rows as evaluate() has just formed them (rows friction_pos and
+        // friction2_pos of the active set); evaluated again only where evaluate() kept them
+        // sparse.
+        Row r1, r2;
+        if (d.sparse_evaluated()) {
+          r1 = cs.row(cs[c].friction, t, q, qd);
+          r2 = cs.row(cs[c].friction2, t, q, qd);
+        } else {
+          r1.g = d.g.row(L.friction_pos[c]);
+          r1.g0 = d.g0[L.friction_pos[c]];
+          r2.g = d.g.row(L.friction2_pos[c]);
+          r2.g0 = d.g0[L.friction2_pos[c]];
+        }
+        Eigen::Vector2d v(r1.value(qd), r2.value(qd));
         // Past the segment's event (v behind its reference direction: the integrator's stages
         // beyond a stop) the velocity is mirrored across the line normal to the reference: the
         // force then continues smoothly (a slide that stops along a line keeps its direction, as
@@ -243,8 +256,7 @@ ModelIssue solve_reactions(Dynamics& d, const ContactSet& cs, const Layout& L, c
         const Eigen::Vector2d ref = static_cast<std::size_t>(c) < cfg.dir.size() ? cfg.dir[c] : Eigen::Vector2d::Zero();
         const double along = v.dot(ref);
         if (along < 0.0) v -= 2.0 * along * ref;
-        const double vr = cs.velocity_round(cs.row(cs[c].friction, t, q, qd), qd) +
-                          cs.velocity_round(cs.row(cs[c].friction2, t, q, qd), qd);
+        const double vr = cs.velocity_round(r1, qd) + cs.velocity_round(r2, qd);
         const double len = v.norm();
         if (len > vr)
           v /= len;
