@@ -46,6 +46,9 @@ std::string energy_form_text(const detail::ModelSource& src) {
   for (std::size_t i = 0; i < src.coordinates.size(); ++i) o << (i ? ", " : "") << quoted(src.coordinates[i]);
   o << "]\n";
   if (src.period) o << "period = " << quoted(src.period->text) << "\n";
+  // The expanded file must derive as the body model does (an energy-form file keeps h as
+  // written unless told).
+  o << "velocity_terms = " << quoted(src.expand_velocity_terms ? "expanded" : "as_written") << "\n";
   if (!src.slow.empty()) {
     o << "slow = [";
     for (std::size_t i = 0; i < src.slow.size(); ++i) o << (i ? ", " : "") << quoted(src.slow[i]);

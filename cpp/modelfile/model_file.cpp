@@ -346,7 +346,7 @@ ModelSource detail::read_model_source(const toml::table& model,
   src.prefix = prefix;
   const Reader r(src.where, prefix);
   std::vector<std::string> allowed{"name", "coordinates", "parameters", "define", "energy", "forces",
-                                   "constraint", "outputs", "period", "slow", "draw"};
+                                   "constraint", "outputs", "period", "slow", "draw", "velocity_terms"};
   for (const auto& k : bodies::body_form_keys()) allowed.push_back(k);
   r.only(model, prefix, allowed);
   const bool body_form = bodies::has_body_form(model);
@@ -545,6 +545,16 @@ ModelSource detail::read_model_source(const toml::table& model,
   }
 
   if (auto n = model.get("period")) src.period = r.expression(*n, r.key("period"));
+  // Generated equations have no written form to keep: a body model's are expanded by default.
+  src.expand_velocity_terms = body_form;
+  if (auto n = model.get("velocity_terms")) {
+    const std::string v = r.string(*n, r.key("velocity_terms"), "\"as_written\" or \"expanded\"");
+    if (v != "as_written" && v != "expanded")
+      fail(src.where, r.key("velocity_terms"),
+           "\"as_written\" (h as derived from T as written) or \"expanded\" (h expanded in the "
+           "velocities, like terms combined), got '" + v + "'");
+    src.expand_velocity_terms = v == "expanded";
+  }
   if (auto n = model.get("slow")) {
     const toml::array* arr = n->as_array();
     if (!arr) fail(src.where, r.key("slow"), "a list of coordinate names");

@@ -50,6 +50,10 @@ struct ModelSource {
   std::vector<SourceConstraint> constraints;
   std::vector<std::pair<std::string, ExprText>> outputs;  ///< in file order
   std::optional<ExprText> period;
+  /// [model] velocity_terms: h (the velocity terms of the equations of motion) as derived from
+  /// T as written ("as_written", false: the default of an energy-form file) or expanded in the
+  /// velocities with like terms combined ("expanded", true: the default with bodies and joints).
+  bool expand_velocity_terms = false;
   std::vector<std::string> slow;
   std::vector<EulerBody> euler_bodies;  ///< body form: spatial bodies with Euler parameters
   DrawSpec draw;  ///< [model.draw] (issue 26); empty when the file has none

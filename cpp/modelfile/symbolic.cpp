@@ -365,6 +365,76 @@ ex along_motion(Calculus& calc, const ex& w, const SymbolicModel& m) {
 
 }  // namespace
 
+// The largest h_j (distinct expression nodes) that velocity_terms = "expanded" expands.
+constexpr std::size_t kMaxExpandedVelocityTerms = 300;
+
+// h_j expanded in the velocities only: every subexpression that mentions no velocity (through
+// the definitions) stands in as one opaque symbol, the rest is expanded and the stand-ins put
+// back. Multiplication is distributed over sums of velocity terms only, and like terms combine
+// only where their velocity-free coefficients are the same expression: c − c cancels and c + c
+// doubles exactly, while a difference of coordinates such as (x − 1000) stays as written (no
+// cancellation is introduced). The terms of along_motion(p_j) and ∂T/∂q_j that cancel (the
+// sieve's −m2 θ̇ (ẋ cos θ − ẏ sin θ) − m2 θ̇ (ẏ sin θ − ẋ cos θ)) so vanish before the tape.
+class VelocityExpansion {
+ public:
+  VelocityExpansion(Calculus& calc, const std::vector<ex>& qd) : calc_(calc) {
+    for (const ex& v : qd) velocities_.insert(symbol_name(v));
+  }
+  ex operator()(const ex& e) {
+    GiNaC::exmap back;
+    const ex atomized = atomize(e);
+    for (const auto& [original, stand_in] : atoms_) back[stand_in] = original;
+    const ex out = atomized.expand().subs(back, GiNaC::subs_options::no_pattern);
+    atoms_.clear();
+    return out;
+  }
+  // The number of distinct nodes of e (a tape's size before its own sharing).
+  static std::size_t size(const ex& e) {
+    std::unordered_set<ex, ExHash, GiNaC::ex_is_equal> seen;
+    std::vector<ex> stack{e};
+    while (!stack.empty()) {
+      const ex x = stack.back();
+      stack.pop_back();
+      if (!seen.insert(x).second) continue;
+      for (std::size_t i = 0; i < x.nops(); ++i) stack.push_back(x.op(i));
+    }
+    return seen.size();
+  }
+
+ private:
+  bool has_velocity(const ex& e) {
+    for (const std::string& name : calc_.symbols(e))
+      if (velocities_.count(name)) return true;
+    return false;
+  }
+  ex atomize(const ex& e) {
+    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::symbol>(e)) return e;
+    if (!has_velocity(e)) return stand_in(e);
+    if (is_group(e)) return atomize(e.op(0));
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
+      GiNaC::exvector ops;
+      for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back(atomize(e.op(i)));
+      if (GiNaC::is_a<GiNaC::add>(e)) return GiNaC::dynallocate<GiNaC::add>(std::move(ops));
+      return GiNaC::dynallocate<GiNaC::mul>(std::move(ops));
+    }
+    if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+        GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_pos_integer())
+      return GiNaC::pow(atomize(e.op(0)), e.op(1));
+    return stand_in(e);  // a function of the velocities: kept whole
+  }
+  ex stand_in(const ex& e) {
+    auto it = atoms_.find(e);
+    if (it != atoms_.end()) return it->second;
+    const ex s = GiNaC::symbol("pcsim_atom_" + std::to_string(serial_++));
+    atoms_.emplace(e, s);
+    return s;
+  }
+  Calculus& calc_;
+  std::unordered_set<std::string> velocities_;
+  std::unordered_map<ex, ex, ExHash, GiNaC::ex_is_equal> atoms_;
+  std::size_t serial_ = 0;
+};
+
 // The largest structural degree of T in the velocities that the derivation expands to decide
 // whether T is quadratic (cancellations such as (x_d + 1)^3 - x_d^3 - 3*x_d^2 are found up to it).
 constexpr long kExpandableDegree = 8;
@@ -594,6 +664,16 @@ SymbolicModel derive(const ModelSource& src) {
       m.M[j][k] = m.M[k][j] = Mjk;
     }
     m.h[j] = along_motion(calc, p[j], m) - dTq[j];
+    // Kept only where it is smaller, and tried only on rows of moderate size: the expansion of
+    // a long chain's products of sums (relative coordinates) would grow, not shrink.
+    if (src.expand_velocity_terms && !m.h[j].is_zero()) {
+      const std::size_t written = VelocityExpansion::size(m.h[j]);
+      if (written <= kMaxExpandedVelocityTerms) {
+        VelocityExpansion expand_velocities(calc, m.qd);
+        const ex e = expand_velocities(m.h[j]);
+        if (10 * VelocityExpansion::size(e) < 8 * written) m.h[j] = e;
+      }
+    }
   });
   for (int j = 0; j < n; ++j) m.Q[j] = -dV[j] - dF[j] + applied[j];
 

@@ -265,6 +265,10 @@ BOOST_AUTO_TEST_CASE(definitions_period_and_slow_are_checked) {
                   {"parameters only"});
   expect_rejected(replaced("[model]\n", "[model]\nslow = [\"s\"]\n"), "model.slow", {"got 's'"});
   expect_rejected(replaced("[model]\n", "[model]\nslow = [\"x\", \"x\"]\n"), "model.slow", {"twice"});
+  expect_rejected(replaced("[model]\n", "[model]\nvelocity_terms = \"fast\"\n"), "model.velocity_terms",
+                  {"\"as_written\"", "\"expanded\"", "got 'fast'"});
+  expect_rejected(replaced("[model]\n", "[model]\nvelocity_terms = true\n"), "model.velocity_terms",
+                  {"\"as_written\" or \"expanded\""});
 }
 
 BOOST_AUTO_TEST_CASE(unreadable_files_are_named) {
