@@ -85,7 +85,7 @@ BOOST_AUTO_TEST_CASE(slider_crank_as_bodies_equals_the_energy_form_file) {
 }
 
 BOOST_AUTO_TEST_CASE(expanded_text_reads_back_to_bit_identical_equations_and_outputs) {
-  for (const std::string file : {"double_pendulum_bodies.toml", "slider_crank_bodies.toml"}) {
+  for (const std::string file : {"double_pendulum_bodies.toml", "slider_crank_bodies.toml", "contact/disk_ring_bodies.toml"}) {
     const auto a = load_model_file(model_path(file))->instantiate({});
     const auto b = expanded(file)->instantiate({});
     const std::vector<int> active = all_constraints(*a);
@@ -137,6 +137,12 @@ BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_a
       {"contact/bouncing_ball_bodies.toml",
        {"name = \"floor\"\nholonomic = \"ball_y - Y0\"\nunilateral = true\nrestitution = \"e_n\"\n"},
        Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(0.1, 0.0)},
+      // The disk in a ring (a rolling joint on a circle, inside): set 0.5 rad up the ring's side
+      // spinning at 20 rad/s, it slides and sticks.
+      {"contact/disk_ring_bodies.toml",
+       {"name = \"mill_contact\"\nholonomic = \"R - r - mill_dist\"\nunilateral = true\nrestitution = \"e_n\"\n",
+        "friction = \"mill_contact\"\nmu_static = \"mu_s\"\nmu_kinetic = \"mu_k\"\n"},
+       Eigen::Vector3d(0.4 * std::sin(0.5), -0.4 * std::cos(0.5), 0.0), Eigen::Vector3d(0.0, 0.0, 20.0)},
       // The frictionless spatial wheel (issue 22): an upright coin dropped 1.5 m, spinning at
       // 20 rad/s (impacts until 1.5 s, before its accumulation at 1.66 s).
       {"contact/coin_bodies.toml",
