@@ -37,13 +37,9 @@ int column(const Model& m, const std::string& name) {
   return static_cast<int>(it - n.begin());
 }
 
-// A disk (m, r, J) on the circle of radius R of a drum turned about its centre (X0, Y0) by
-// `motion` (an expression of t; "" = the circle is ground's), outside it or inside, rolling with
-// Coulomb friction mu_s, mu_k. Coordinates disk_x, disk_y, disk_th.
-std::string body_model(bool inside, const std::string& motion) {
-  std::string s = R"([model]
-name = "drum"
-[model.parameters]
+// The drum models' parameters (the disk's m, r, J; the circle's R and centre X0, Y0; friction; the
+// drum's motion A sin(w t)).
+const std::string kParameters = R"([model.parameters]
 m = 1.0
 r = 0.1
 J = 0.005
@@ -55,7 +51,13 @@ X0 = 0.0
 Y0 = 0.0
 A = 0.0
 w = 0.0
-[model.body.ground]
+)";
+
+// A disk (m, r, J) on the circle of radius R of a drum turned about its centre (X0, Y0) by
+// `motion` (an expression of t; "" = the circle is ground's), outside it or inside, rolling with
+// Coulomb friction mu_s, mu_k. Coordinates disk_x, disk_y, disk_th.
+std::string body_model(bool inside, const std::string& motion) {
+  std::string s = "[model]\nname = \"drum\"\n" + kParameters + R"([model.body.ground]
 markers = { hub = ["X0", "Y0"] }
 [model.body.disk]
 mass = "m"
@@ -81,22 +83,7 @@ type = "rolling"
 std::string energy_model(bool inside, const std::string& rate) {
   const std::string rho = "sqrt((x - X0)^2 + (y - Y0)^2)";
   const std::string sg = inside ? "" : "-";
-  std::string s = R"([model]
-name = "drum_energy"
-coordinates = ["x", "y", "th"]
-[model.parameters]
-m = 1.0
-r = 0.1
-J = 0.005
-R = 0.5
-g = 9.81
-mu_s = 0.6
-mu_k = 0.6
-X0 = 0.0
-Y0 = 0.0
-A = 0.0
-w = 0.0
-[model.energy]
+  std::string s = "[model]\nname = \"drum_energy\"\ncoordinates = [\"x\", \"y\", \"th\"]\n" + kParameters + R"([model.energy]
 kinetic = "0.5*m*(x_d^2 + y_d^2) + 0.5*J*th_d^2"
 potential = "m*g*y"
 [[model.constraint]]
