@@ -443,7 +443,7 @@ BOOST_AUTO_TEST_CASE(a_disk_in_a_spinning_ring_sticks_once_and_bad_circle_keys_e
       BOOST_REQUIRE(at != std::string::npos);
       text.replace(at + 1, b.from.size(), b.to);
       std::ofstream(dir.path / "m.toml") << text;
-      std::ofstream(dir.path / "c.toml") << "model = \"m.toml\"\n[initial]\ndisk_y = -0.4\n[contact]\nswitching = true\n";
+      std::ofstream(dir.path / "c.toml") << "model = \"m.toml\"\n[initial]\ndisk_x = 0.0\n[contact]\nswitching = true\n";
       const fs::path o = dir.path / "bad";
       const Result e = pcsim("run '" + (dir.path / "c.toml").string() + "' --out '" + o.string() + "'");
       BOOST_TEST(e.status == 2, e.out);

@@ -142,7 +142,7 @@ BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_a
       {"contact/disk_ring_bodies.toml",
        {"name = \"mill_contact\"\nholonomic = \"R - r - mill_dist\"\nunilateral = true\nrestitution = \"e_n\"\n",
         "friction = \"mill_contact\"\nmu_static = \"mu_s\"\nmu_kinetic = \"mu_k\"\n"},
-       Eigen::Vector3d(0.4 * std::sin(0.5), -0.4 * std::cos(0.5), 0.0), Eigen::Vector3d(0.0, 0.0, 20.0)},
+       Eigen::Vector3d(0.4 * std::sin(0.5), 0.4 - 0.4 * std::cos(0.5), 0.0), Eigen::Vector3d(0.0, 0.0, 20.0)},
       // The frictionless spatial wheel (issue 22): an upright coin dropped 1.5 m, spinning at
       // 20 rad/s (impacts until 1.5 s, before its accumulation at 1.66 s).
       {"contact/coin_bodies.toml",
