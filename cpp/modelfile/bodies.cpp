@@ -1098,7 +1098,7 @@ class Rolling : public JointType {
  public:
   std::string name() const override { return "rolling"; }
   std::vector<std::string> extra_keys() const override {
-    std::vector<std::string> k{"radius", "form", "row_names"};
+    std::vector<std::string> k{"radius", "form", "row_names", "surface", "circle_radius", "inside"};
     for (const auto& c : contact_keys()) k.push_back(c);
     return k;
   }
@@ -1274,6 +1274,55 @@ void Coupler::rows(Expander& x, Joint& j) const {
                                   mul(ratios[i], "lambda_" + r.name)});
 }
 
+// The contact's sliding velocity: the velocity of the wheel's material point at its contact
+// P = C − r n (C its centre, marker2; n the unit normal at the contact towards the wheel, ground
+// axes) relative to body1's material point there, along the tangent tg (ground axes).
+Lin contact_sliding_velocity(Expander& x, const Body& b1, const Body& b2, const Marker& m2, const Expr& r,
+                             const Vec3& n, const Vec3& tg) {
+  const Vec3 P = sub(x.marker_position(b2, m2), scale(r, n));
+  const LinVec3 v2 = add(x.marker_velocity(b2, m2), cross(b2.pose.w, scale(neg(r), n)));
+  const LinVec3 v1 = x.point_velocity(b1, P);
+  LinVec3 rel;
+  for (int i = 0; i < 3; ++i) rel[i] = add(v2[i], scale("-1", v1[i]));
+  return dot(tg, rel);
+}
+
+// A wheel on a circle of body1 (`surface = "circle"`: centre O = marker1, radius R =
+// `circle_radius`), outside it (a roller on a drum) or inside (`inside = true`: a roller in a
+// ring). With d = C − O (named <joint>_dx, _dy) and its length <joint>_dist:
+//   _contact  |d| − (R + r) outside, (R − r) − |d| inside: the gap in m, a distance (its gradient
+//             in C is the unit normal n, so its multiplier is the normal force in N; the
+//             squared form |d|² − (R ± r)² would scale it by 2|d|). Singular only at d = 0 (the
+//             wheel's centre on the circle's: inside, R − r away from any contact);
+//   _rolling  the contact point's sliding velocity along tg (contact_sliding_velocity),
+// with n = ±d/|d| the normal towards the wheel (+ outside, − inside; <joint>_nx, _ny) and
+// tg = (n_y, −n_x) the tangent: the joint frame at the contact is (tg, n), the line's (x along
+// the surface, y its normal) turned to the contact, which it is at the top of a drum and at the
+// bottom of a ring (n = +y). The rolling condition integrates to (R + r) ψ − r φ fixed outside,
+// (R − r) ψ + r φ inside (ψ the centre's polar angle about O, φ the wheel's angle, both relative
+// to body1), but ψ is an atan2 that jumps by 2π once per turn around the circle: there is no
+// holonomic form, and `form = "holonomic"` is refused.
+void circle_rows(Expander& x, Joint& j, const Body& b1, const Body& b2, const Marker& m1, const Marker& m2,
+                 const Expr& r, const RollingSurface& s, Row& contact, Row& roll) {
+  const std::string pre = j.name + "_";
+  const Vec3 d = sub(x.marker_position(b2, m2), x.marker_position(b1, m1));
+  const Expr dx = x.define(pre + "dx", d[0], j.key), dy = x.define(pre + "dy", d[1], j.key);
+  const Expr dist = x.define(pre + "dist", "sqrt(" + dx + "^2 + " + dy + "^2)", j.key);
+  const std::string sign = s.inside ? "-" : "";
+  Vec3 n, tg;
+  n[0] = x.define(pre + "nx", sign + dx + "/" + dist, j.key);
+  n[1] = x.define(pre + "ny", sign + dy + "/" + dist, j.key);
+  tg[0] = n[1];
+  tg[1] = neg(n[0]);
+  contact.holonomic = s.inside ? sub(sub(s.radius, r), dist) : sub(dist, paren(add(s.radius, r)));
+  roll.velocity = contact_sliding_velocity(x, b1, b2, m2, r, n, tg);
+  roll.velocity_form = true;
+  for (int i = 0; i < 2; ++i) {  // the joint frame (tg, n, z) -> ground
+    j.axes.m[i][0] = tg[i];
+    j.axes.m[i][1] = n[i];
+  }
+}
+
 void Rolling::rows(Expander& x, Joint& j) const {
   const toml::table& t = *j.table;
   const Body& b1 = x.body(j.body1, j.key + ".body1");
@@ -1281,13 +1330,18 @@ void Rolling::rows(Expander& x, Joint& j) const {
   const Marker& m1 = x.marker(b1, j.marker1, j.key + ".marker1");
   const Marker& m2 = x.marker(b2, j.marker2, j.key + ".marker2");
   if (!x.kind(b2).planar() || !(b1.ground || x.kind(b1).planar()))
-    x.fail(j.key, "planar bodies (a wheel rolling on a line); spatial rolling is a spatial joint");
+    x.fail(j.key, "planar bodies (a wheel rolling on a line or a circle); spatial rolling is a spatial joint");
   const Expr r = x.required(t, j.key, "radius", "the wheel's radius (an expression)");
+  const RollingSurface surface = read_rolling_surface(x, j, "wheel", r, "line", "marker1's x axis", "circle");
   std::string form = "velocity";
   if (auto f = t.get("form")) {
     form = x.string(*f, j.key + ".form", "\"velocity\" or \"holonomic\"");
     if (form != "velocity" && form != "holonomic")
       x.fail(j.key + ".form", "\"velocity\" (default: the paper's velocity form) or \"holonomic\" (s + r phi fixed at the initial state), got '" + form + "'");
+    if (form == "holonomic" && surface.curved)
+      x.fail(j.key + ".form", "\"velocity\" on a circle (the default): rolling on a circle integrates to (R + r) psi - r phi "
+                              "fixed (inside: (R - r) psi + r phi), psi the centre's polar angle about marker1, an atan2 "
+                              "that jumps by 2 pi once per turn, so it has no holonomic row");
   }
   std::string contact_name = j.name + "_contact", rolling_name = j.name + "_rolling";
   if (auto rn = t.get("row_names")) {
@@ -1307,7 +1361,9 @@ void Rolling::rows(Expander& x, Joint& j) const {
   contact.name = contact_name;
   roll.name = rolling_name;
   const bool child = b2.parent == b1.name && !b1.name.empty();
-  if (child) {
+  if (surface.curved) {
+    circle_rows(x, j, b1, b2, m1, m2, r, surface, contact, roll);
+  } else if (child) {
     // In body1's frame, from the tree joint's relative coordinates (no rotation of body1 enters).
     const Vec3 c = add(b2.relative.r, apply(b2.relative.A, m2.p));
     const Vec3 d = sub(c, m1.p);
@@ -1328,14 +1384,8 @@ void Rolling::rows(Expander& x, Joint& j) const {
       x.fail(j.key + ".form", "\"velocity\": the holonomic form needs the wheel placed on the line's body by a planar joint (its relative coordinates)");
     const Mat3 E = x.marker_axes(b1, m1);
     const Vec3 n = column(E, 1), tg = column(E, 0);
-    const Vec3 C = x.marker_position(b2, m2);
-    contact.holonomic = sub(dot(n, sub(C, x.marker_position(b1, m1))), r);
-    const Vec3 P = sub(C, scale(r, n));
-    const LinVec3 v2 = add(x.marker_velocity(b2, m2), cross(b2.pose.w, scale(neg(r), n)));
-    const LinVec3 v1 = x.point_velocity(b1, P);
-    LinVec3 rel;
-    for (int i = 0; i < 3; ++i) rel[i] = add(v2[i], scale("-1", v1[i]));
-    roll.velocity = dot(tg, rel);
+    contact.holonomic = sub(dot(n, sub(x.marker_position(b2, m2), x.marker_position(b1, m1))), r);
+    roll.velocity = contact_sliding_velocity(x, b1, b2, m2, r, n, tg);
     roll.velocity_form = true;
   }
   read_joint_contact(x, j, contact, &roll);  // bodies_contact.cpp

@@ -286,6 +286,24 @@ bool has_contact_keys(const Joint& j);
 /// sliding velocity along a tangent orthonormal to the first's) receives the same attributes.
 void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
                         const std::string& no_friction = "", Row* friction2 = nullptr);
+/// The surface a rolling body rolls on (docs/bodies.md "Rolling on a circle",
+/// docs/bodies-spatial.md): the flat one (the planar `rolling` joint: marker1's x axis, "line";
+/// the spatial `wheel` and `ball`: marker1's x-y plane, "plane") or a curved one of body1 centred
+/// at marker1 (`surface = "circle"` / `"sphere"`) with its radius `<curved>_radius` and
+/// `inside = true` (the body inside it: a ring, a bowl) or false (default: outside, a drum).
+struct RollingSurface {
+  bool curved = false;
+  Expr radius;          ///< the curved surface's radius ("" on the flat one)
+  bool inside = false;
+};
+/// The keys `surface`, `<curved>_radius` and `inside` of a rolling joint whose body (`body`:
+/// "wheel", "ball") has the radius `body_radius`; `flat_where` says where the flat surface is.
+/// Refused, naming the key: an unknown surface; the curved keys on the flat surface; a radius
+/// of the body or of the curved surface not > 0, inside a surface not larger than the body (each
+/// checked at the parameters' defaults where it is a number).
+RollingSurface read_rolling_surface(Expander& x, const Joint& j, const std::string& body,
+                                    const Expr& body_radius, const std::string& flat,
+                                    const std::string& flat_where, const std::string& curved);
 /// Fails (naming the first contact key of the joint) with `why` if the joint has any.
 void refuse_contact_keys(Expander& x, const Joint& j, const std::string& why);
 /// A number for an expression of the parameters at their defaults (NaN if it is not one).

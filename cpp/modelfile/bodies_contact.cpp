@@ -5,7 +5,8 @@
 // force in N), or on its two sliding rows where the contact slides in a plane (a 2-D Coulomb
 // cone: the sliding velocity's components along two orthonormal tangents). They become the
 // [[model.constraint]] attributes of docs/model-files.md ("Contact") on the generated rows, and
-// `pcsim expand` prints them there.
+// `pcsim expand` prints them there. The rolling joints' surfaces (a line or a circle, a plane
+// or a sphere) are read here too: the contact's geometry, one vocabulary for all of them.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -86,6 +87,39 @@ void read_joint_contact(Expander& x, const Joint& j, Row& normal, Row* friction,
     f->mu_kinetic = mk;
     f->friction = normal.name;
   }
+}
+
+RollingSurface read_rolling_surface(Expander& x, const Joint& j, const std::string& body,
+                                    const Expr& body_radius, const std::string& flat,
+                                    const std::string& flat_where, const std::string& curved) {
+  const toml::table& t = *j.table;
+  const std::string radius_key = curved + "_radius";
+  const double r = default_parameter_value(x, body_radius, j.key + ".radius");
+  if (!std::isnan(r) && !(r > 0.0))
+    x.fail(j.key + ".radius", "the " + body + "'s radius > 0, " + got(body_radius, r));
+  std::string surface = flat;
+  if (const toml::node* sf = t.get("surface"))
+    surface = x.string(*sf, j.key + ".surface", "\"" + flat + "\" or \"" + curved + "\"");
+  RollingSurface s;
+  s.curved = surface == curved;
+  if (!s.curved) {
+    if (surface != flat)
+      x.fail(j.key + ".surface", "\"" + flat + "\" (default: " + flat_where + ") or \"" + curved +
+                                     "\" (centred at marker1, radius " + radius_key + "), got '" + surface + "'");
+    for (const std::string& key : {radius_key, std::string("inside")})
+      if (t.get(key))
+        x.fail(j.key + "." + key, "no " + key + " on a " + body + " on a " + flat + " (surface = \"" + curved + "\" takes it)");
+    return s;
+  }
+  s.radius = x.required(t, j.key, radius_key, "the " + curved + "'s radius (an expression; the " + curved + " is centred at marker1)");
+  if (const toml::node* in = t.get("inside")) s.inside = x.boolean(*in, j.key + ".inside");
+  const double rs = default_parameter_value(x, s.radius, j.key + "." + radius_key);
+  if (!std::isnan(rs) && !(rs > 0.0))
+    x.fail(j.key + "." + radius_key, "the " + curved + "'s radius > 0, " + got(s.radius, rs));
+  if (s.inside && !std::isnan(rs) && !std::isnan(r) && !(rs > r))
+    x.fail(j.key + "." + radius_key, "a radius > the " + body + "'s radius = " + format_number(r) + " with inside = true (the " +
+                                         body + " rolls inside the " + curved + "), " + got(s.radius, rs));
+  return s;
 }
 
 }  // namespace pcsim::modelfile::bodies

@@ -757,7 +757,8 @@ class SpatialDistance : public JointType {
 // The keys a rolling body (`body`: "wheel", "ball") reads before its rows, in this order:
 // `no_slip` (default true), its markers, `radius`, and its surface: marker1's x-y plane
 // (default) or `surface = "sphere"` (body1's sphere centred at marker1, `sphere_radius`, and
-// `inside = true` for a bowl; those two keys are refused on a plane).
+// `inside = true` for a bowl; those two keys are refused on a plane): read_rolling_surface
+// (bodies_contact.cpp), as the planar rolling joint's line or circle.
 struct RollingKeys {
   bool no_slip = true;
   Frames f;
@@ -784,21 +785,10 @@ RollingKeys read_rolling_keys(Expander& x, const Joint& j, const std::string& bo
   if (const toml::node* ns = j.table->get("no_slip")) k.no_slip = x.boolean(*ns, j.key + ".no_slip");
   k.f = frames(x, j);
   k.radius = x.required(*j.table, j.key, "radius", "the " + body + "'s radius (an expression)");
-  std::string surface = "plane";
-  if (const toml::node* sf = j.table->get("surface"))
-    surface = x.string(*sf, j.key + ".surface", "\"plane\" or \"sphere\"");
-  k.sphere = surface == "sphere";
-  if (k.sphere) {
-    k.sphere_radius = x.required(*j.table, j.key, "sphere_radius",
-                                 "the sphere's radius (an expression; the sphere is centred at marker1)");
-    if (const toml::node* in = j.table->get("inside")) k.inside = x.boolean(*in, j.key + ".inside");
-    return k;
-  }
-  if (surface != "plane")
-    x.fail(j.key + ".surface", "\"plane\" (default: marker1's x-y plane) or \"sphere\" (centred at marker1, radius sphere_radius), got '" + surface + "'");
-  for (const char* key : {"sphere_radius", "inside"})
-    if (j.table->get(key))
-      x.fail(j.key + "." + key, "no " + std::string(key) + " on a " + body + " on a plane (surface = \"sphere\" takes it)");
+  const RollingSurface s = read_rolling_surface(x, j, body, k.radius, "plane", "marker1's x-y plane", "sphere");
+  k.sphere = s.curved;
+  k.sphere_radius = s.radius;
+  k.inside = s.inside;
   return k;
 }
 

@@ -416,3 +416,51 @@ BOOST_AUTO_TEST_CASE(ball_rolling_off_a_sphere_lifts_off_at_cos_ten_seventeenths
   BOOST_TEST(std::abs((z - 80.0) / L - expected) < 1e-8);
   BOOST_TEST(*hi - *lo < 1e-7);
 }
+
+// Issue 22: a disk dropped into a spinning ring (cases/disk_ring_bodies.toml: a rolling joint on
+// the ring's circle, inside) slides, sticks once (at 0.084 s) and then rolls: over the summary
+// window after the stick its `slip` output, the rolling relation (R - r) psi_d + r th_d - R Omega,
+// stays 0 (1e-8 m/s) and its gap closed (1e-8 m). A ring the disk does not fit in, or a holonomic
+// rolling row on a circle, exits 2 naming the model file and the key, nothing written.
+BOOST_AUTO_TEST_CASE(a_disk_in_a_spinning_ring_sticks_once_and_bad_circle_keys_exit_2) {
+  TempDir dir("switching_cli");
+  const fs::path out = dir.path / "ring";
+  const Result r = pcsim("run cases/disk_ring_bodies.toml --set solver.t_end=0.5 --set output.summary_time=0.4 --out '" +
+                         out.string() + "'");
+  BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
+  std::istringstream ev(read(out / "events.csv"));
+  std::string line;
+  std::vector<std::string> lines;
+  std::getline(ev, line);
+  while (std::getline(ev, line)) lines.push_back(line);
+  BOOST_REQUIRE_EQUAL(lines.size(), 1u);
+  BOOST_TEST(lines[0].find(",stick,mill_contact,slip,stick,") != std::string::npos, lines[0]);
+  const double t_stick = std::stod(lines[0]);
+  BOOST_TEST((t_stick > 0.08 && t_stick < 0.09), t_stick);
+  const auto summary = nlohmann::json::parse(read(out / "summary.json"));
+  for (const char* c : {"slip", "gap"})
+    for (const char* e : {"min", "max"}) BOOST_TEST(std::abs(summary["extremes"][c][e].get<double>()) < 1e-8, c << " " << e);
+  const std::string model = read(fs::path(PCSIM_SOURCE_DIR) / "models/contact/disk_ring_bodies.toml");
+  struct Bad {
+    std::string from, to, key, why;
+  };
+  for (const Bad& b : {Bad{"circle_radius = \"R\"", "circle_radius = \"r\"", "model.joint.mill.circle_radius",
+                           "a radius > the wheel's radius = 0.1 with inside = true (the wheel rolls inside the circle), got r = 0.1"},
+                       Bad{"inside = true", "inside = true\nform = \"holonomic\"", "model.joint.mill.form", "\"velocity\" on a circle"},
+                       Bad{"surface = \"circle\"", "surface = \"cylinder\"", "model.joint.mill.surface",
+                           "\"line\" (default: marker1's x axis) or \"circle\" (centred at marker1, radius circle_radius), got 'cylinder'"}}) {
+    BOOST_TEST_CONTEXT(b.key) {
+      std::string text = model;
+      const auto at = text.find("\n" + b.from + "\n");  // the joint's key, not the header's words
+      BOOST_REQUIRE(at != std::string::npos);
+      text.replace(at + 1, b.from.size(), b.to);
+      std::ofstream(dir.path / "m.toml") << text;
+      std::ofstream(dir.path / "c.toml") << "model = \"m.toml\"\n[initial]\ndisk_x = 0.0\n[contact]\nswitching = true\n";
+      const fs::path o = dir.path / "bad";
+      const Result e = pcsim("run '" + (dir.path / "c.toml").string() + "' --out '" + o.string() + "'");
+      BOOST_TEST(e.status == 2, e.out);
+      BOOST_TEST(e.out.find("m.toml: key '" + b.key + "': " + b.why) != std::string::npos, e.out);
+      BOOST_TEST(!fs::exists(o));
+    }
+  }
+}

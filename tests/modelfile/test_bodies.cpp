@@ -87,7 +87,7 @@ BOOST_AUTO_TEST_CASE(slider_crank_as_bodies_equals_the_energy_form_file) {
 }
 
 BOOST_AUTO_TEST_CASE(expanded_text_reads_back_to_bit_identical_equations_and_outputs) {
-  for (const std::string file : {"double_pendulum_bodies.toml", "slider_crank_bodies.toml"}) {
+  for (const std::string file : {"double_pendulum_bodies.toml", "slider_crank_bodies.toml", "contact/disk_ring_bodies.toml"}) {
     const auto a = load_model_file(model_path(file))->instantiate({});
     const auto b = expanded(file)->instantiate({});
     const std::vector<int> active = all_constraints(*a);
@@ -139,6 +139,12 @@ BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_a
       {"contact/bouncing_ball_bodies.toml",
        {"name = \"floor\"\nholonomic = \"ball_y - Y0\"\nunilateral = true\nrestitution = \"e_n\"\n"},
        Eigen::Vector2d(0.0, 1.0), Eigen::Vector2d(0.1, 0.0)},
+      // The disk in a ring (a rolling joint on a circle, inside): set 0.5 rad up the ring's side
+      // spinning at 20 rad/s, it slides and sticks.
+      {"contact/disk_ring_bodies.toml",
+       {"name = \"mill_contact\"\nholonomic = \"R - r - mill_dist\"\nunilateral = true\nrestitution = \"e_n\"\n",
+        "friction = \"mill_contact\"\nmu_static = \"mu_s\"\nmu_kinetic = \"mu_k\"\n"},
+       Eigen::Vector3d(0.4 * std::sin(0.5), 0.4 - 0.4 * std::cos(0.5), 0.0), Eigen::Vector3d(0.0, 0.0, 20.0)},
       // The frictionless spatial wheel (issue 22): an upright coin dropped 1.5 m, spinning at
       // 20 rad/s (impacts until 1.5 s, before its accumulation at 1.66 s).
       {"contact/coin_bodies.toml",
@@ -193,6 +199,91 @@ BOOST_AUTO_TEST_CASE(expanded_contact_joints_carry_their_attributes_and_switch_a
       BOOST_TEST(ra.qd_end == rb.qd_end);
     }
   }
+}
+
+// A rolling joint on a circle (docs/bodies.md "Rolling on a circle") on a FREE body1 (a drum with
+// its own coordinates, the circle's centre `hub` off its origin, the wheel's centre marker off
+// the disk's), outside and inside, the disk absolute or placed on the drum by a planar tree
+// joint (s, u, phi), at random states near contact, at the origin and 1000 m out: the row
+// roll_contact is the gap |d| - (R + r) (inside (R - r) - |d|), d = c - o; the row roll_rolling's
+// g q_d + g0 is the sliding velocity t.(v_wheel(P) - v_drum(P)) at P = c - r n, n = +-d/|d|,
+// t = (n_y, -n_x), computed here from the rigid-body velocities; the reaction columns from
+// random multipliers are (lambda_rolling, lambda_contact, r lambda_rolling) in the contact frame
+// and lambda_rolling t + lambda_contact n in ground axes. Bounds 1e-12 (relative to |v|, |lambda|;
+// the gap in m): rounding of coordinates 1000 m out (observed 2.6e-13 m, 2.7e-13, 2.8e-13).
+BOOST_AUTO_TEST_CASE(rolling_on_a_circle_rows_are_the_gap_and_the_contact_points_sliding_velocity) {
+  const double R = 0.7, r = 0.1;
+  const Eigen::Vector2d hub(0.3, -0.2), cm(0.02, 0.01);
+  auto rot = [](double a) { return (Eigen::Matrix2d() << std::cos(a), -std::sin(a), std::sin(a), std::cos(a)).finished(); };
+  auto perp = [](const Eigen::Vector2d& v) { return Eigen::Vector2d(-v[1], v[0]); };  // z x v
+  for (const bool tree : {false, true})
+    for (const bool inside : {false, true})
+      for (const char* reactions : {"joint", "ground"}) {
+        BOOST_TEST_CONTEXT((tree ? "tree" : "absolute") << ", " << (inside ? "inside" : "outside") << ", reactions = " << reactions) {
+          const std::string text = std::string("[model]\nname = \"m\"\nreactions = \"") + reactions + "\"\n"
+              "[model.body.drum]\nmass = 5\ninertia = 1\nmarkers = { hub = [0.3, -0.2] }\n"
+              "[model.body.disk]\nmass = 1\ninertia = 0.005\nmarkers = { c = [0.02, 0.01] }\n" +
+              (tree ? "[model.joint.place]\ntype = \"planar\"\nbody1 = \"drum\"\nbody2 = \"disk\"\ncoordinates = [\"s\", \"u\", \"phi\"]\n" : "") +
+              "[model.joint.roll]\ntype = \"rolling\"\nbody1 = \"drum\"\nmarker1 = \"hub\"\nbody2 = \"disk\"\nmarker2 = \"c\"\n"
+              "radius = 0.1\nsurface = \"circle\"\ncircle_radius = 0.7\ninside = " + (inside ? "true" : "false") + "\n";
+          const auto m = load_model_text(text, "m.toml")->instantiate({});
+          BOOST_REQUIRE(m->coordinates() == (tree ? std::vector<std::string>{"drum_x", "drum_y", "drum_th", "s", "u", "phi"}
+                                                  : std::vector<std::string>{"drum_x", "drum_y", "drum_th", "disk_x", "disk_y", "disk_th"}));
+          const int ic = m->constraint_index("roll_contact"), ir = m->constraint_index("roll_rolling");
+          const std::vector<int> active = all_constraints(*m);
+          std::mt19937 rng(inside ? 61 : 62);
+          double worst_gap = 0, worst_rate = 0, worst_F = 0;
+          for (int k = 0; k < 40; ++k) {
+            Eigen::VectorXd q(6), qd(6);
+            const double off = k % 2 ? 1000.0 : 0.0;
+            q.head<3>() << off + uniform(rng), -off + uniform(rng), 3 * uniform(rng);
+            for (auto& v : qd) v = 2 * uniform(rng);
+            const Eigen::Vector2d r1 = q.head<2>(), o = r1 + rot(q[2]) * hub;
+            const double psi = 3 * uniform(rng), rho = (inside ? R - r : R + r) + 1e-3 * uniform(rng);
+            const Eigen::Vector2d c = o + rho * Eigen::Vector2d(std::cos(psi), std::sin(psi));
+            // The disk's angle th2, its rate w2, its centre marker's velocity, from the coordinates.
+            double th2, w2;
+            Eigen::Vector2d vc;
+            if (tree) {
+              q[5] = 3 * uniform(rng);
+              th2 = q[2] + q[5];
+              w2 = qd[2] + qd[5];
+              q.segment<2>(3) = rot(q[2]).transpose() * (c - r1 - rot(th2) * cm);
+              vc = qd.head<2>() + qd[2] * perp(rot(q[2]) * q.segment<2>(3)) + rot(q[2]) * qd.segment<2>(3) +
+                   w2 * perp(rot(th2) * cm);
+            } else {
+              th2 = q[5] = 3 * uniform(rng);
+              w2 = qd[5];
+              q.segment<2>(3) = c - rot(th2) * cm;
+              vc = qd.segment<2>(3) + w2 * perp(rot(th2) * cm);
+            }
+            const Eigen::Vector2d d = c - o;
+            const Eigen::Vector2d n = (inside ? -1.0 : 1.0) * d / d.norm(), t(n[1], -n[0]), P = c - r * n;
+            const Eigen::Vector2d v_wheel = vc + w2 * perp(P - c), v_drum = qd.head<2>() + qd[2] * perp(P - r1);
+            const double gap = inside ? R - r - d.norm() : d.norm() - (R + r);
+            worst_gap = std::max(worst_gap, std::abs(m->position_residual(ic, 0.0, q) - gap));
+            const Evaluation e = evaluate(*m, active, 0.0, q, qd);
+            const auto row = std::find(active.begin(), active.end(), ir) - active.begin();
+            const double rate = e.g.row(row).dot(qd) + e.g0[row];
+            worst_rate = std::max(worst_rate, std::abs(rate - t.dot(v_wheel - v_drum)) / (v_wheel.norm() + v_drum.norm()));
+            Eigen::VectorXd lambda(static_cast<Eigen::Index>(active.size())), out;
+            for (auto& l : lambda) l = 10.0 * uniform(rng);
+            const Eigen::VectorXd zero = Eigen::VectorXd::Zero(6);
+            m->derived_with_multipliers(0.0, q, qd, zero, zero, active, lambda, out);
+            auto column = [&](const std::string& name) { return out[name_index(m->derived_names(), name)]; };
+            const double lc = lambda[std::find(active.begin(), active.end(), ic) - active.begin()], lr = lambda[row];
+            const Eigen::Vector2d F = std::string(reactions) == "joint" ? Eigen::Vector2d(lr, lc) : Eigen::Vector2d(lr * t + lc * n);
+            worst_F = std::max({worst_F, std::abs(column("F_roll_x") - F[0]) / 10.0, std::abs(column("F_roll_y") - F[1]) / 10.0,
+                                std::abs(column("M_roll_z") - r * lr) / 10.0});
+          }
+          BOOST_TEST_MESSAGE("circle, " << (tree ? "tree" : "absolute") << ", " << (inside ? "inside" : "outside")
+                             << ", reactions = " << reactions << ": gap " << worst_gap << " m, sliding velocity "
+                             << worst_rate << " of |v|, reactions " << worst_F << " of |lambda|");
+          BOOST_TEST(worst_gap < 1e-12);
+          BOOST_TEST(worst_rate < 1e-12);
+          BOOST_TEST(worst_F < 1e-12);
+        }
+      }
 }
 
 // `pcsim expand` of the 2-D Coulomb cone's joints (issue 22): the point_on_plane of

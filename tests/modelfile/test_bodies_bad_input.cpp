@@ -361,6 +361,46 @@ body2 = "s"
   }
 }
 
+// The planar `rolling` joint on a circle (docs/bodies.md "Rolling on a circle"): surface =
+// "circle" with circle_radius and inside, the spatial wheel's and ball's words (shared code), each
+// refusal naming the key; the radii checked at the parameters' defaults.
+BOOST_AUTO_TEST_CASE(rolling_on_a_circle_bad_keys_are_refused_naming_the_key) {
+  const std::string circle = on_roll("surface = \"circle\"\n");
+  BOOST_CHECK_EQUAL(error_of(circle + "circle_radius = 3.0\n"), "");
+  BOOST_CHECK_EQUAL(error_of(circle + "circle_radius = 0.5\n"), "");  // a drum smaller than the wheel
+  BOOST_CHECK_EQUAL(error_of(circle + "circle_radius = \"3*L\"\ninside = true\nunilateral = true\nrestitution = 0.2\n"
+                                      "mu_static = 0.3\nmu_kinetic = 0.1\nrow_names = { contact = \"touch\", rolling = \"roll\" }\n"), "");
+  BOOST_CHECK_EQUAL(error_of(on_roll("surface = \"line\"\n")), "");
+  // An unknown surface; the circle's keys on the line; its radius required.
+  expect_error(on_roll("surface = \"cylinder\"\n"),
+               {"m.toml", "model.joint.w.surface", "\"line\" (default: marker1's x axis)", "\"circle\"", "circle_radius", "got 'cylinder'"});
+  expect_error(on_roll("surface = 2\n"), {"m.toml", "model.joint.w.surface", "\"line\" or \"circle\""});
+  expect_error(circle, {"m.toml", "model.joint.w.circle_radius", "the circle's radius"});
+  expect_error(on_roll("circle_radius = 3.0\n"),
+               {"m.toml", "model.joint.w.circle_radius", "no circle_radius on a wheel on a line (surface = \"circle\" takes it)"});
+  expect_error(on_roll("inside = true\n"), {"m.toml", "model.joint.w.inside", "no inside on a wheel on a line"});
+  expect_error(circle + "circle_radius = 3.0\ninside = \"yes\"\n", {"m.toml", "model.joint.w.inside"});
+  // Radii > 0, and inside a circle larger than the wheel (radius L = 1).
+  expect_error(circle + "circle_radius = -3.0\n", {"m.toml", "model.joint.w.circle_radius", "the circle's radius > 0, got -3"});
+  expect_error(circle + "circle_radius = \"-2*L\"\n", {"model.joint.w.circle_radius", "the circle's radius > 0, got -2*L = -2"});
+  expect_error(circle + "circle_radius = 1.0\ninside = true\n",
+               {"m.toml", "model.joint.w.circle_radius", "a radius > the wheel's radius = 1 with inside = true", "got 1"});
+  expect_error(circle + "circle_radius = \"L/2\"\ninside = true\n", {"model.joint.w.circle_radius", "got L/2 = 0.5"});
+  expect_error(kBase + "[model.joint.w]\ntype = \"rolling\"\nbody2 = \"a\"\nradius = \"-L\"\n",
+               {"m.toml", "model.joint.w.radius", "the wheel's radius > 0, got -L = -1"});
+  expect_error(kBase + "[model.joint.w]\ntype = \"rolling\"\nbody2 = \"a\"\nradius = 0\nsurface = \"circle\"\ncircle_radius = 3\n",
+               {"model.joint.w.radius", "the wheel's radius > 0, got 0"});
+  // No holonomic row on a circle (the polar angle's atan2 jumps once per turn).
+  expect_error(circle + "circle_radius = 3.0\nform = \"holonomic\"\n", {"m.toml", "model.joint.w.form", "\"velocity\" on a circle", "atan2"});
+  // Unknown keys list the circle's; the contact keys' rules as on the line.
+  expect_error(circle + "circle_radius = 3.0\nsphere_radius = 3.0\n",
+               {"model.joint.w.sphere_radius", "unknown key", "surface", "circle_radius", "inside", "mu_static"});
+  expect_error(circle + "circle_radius = 3.0\nunilateral = true\n", {"model.joint.w.mu_static", "in the air"});
+  expect_error(circle + "circle_radius = 3.0\nmu_static = 0.3\n", {"model.joint.w.mu_static", "only with unilateral = true"});
+  expect_error(circle + "circle_radius = 3.0\nunilateral = true\nmu_static = 0.3\nmu_kinetic = 0.5\n",
+               {"model.joint.w.mu_kinetic", "[0, mu_static = 0.3]"});
+}
+
 // The spatial `ball` joint (a sphere on a plane, docs/bodies-spatial.md "Joints"): the wheel's
 // contact keys with the wheel's rules (shared code), each refusal naming the key.
 BOOST_AUTO_TEST_CASE(ball_joint_bad_keys_are_refused_naming_the_key) {
@@ -374,8 +414,8 @@ BOOST_AUTO_TEST_CASE(ball_joint_bad_keys_are_refused_naming_the_key) {
   expect_error(ball, {"m.toml", "model.joint.b.radius", "the ball's radius"});
   expect_error(ball + "unilateral = true\n", {"m.toml", "model.joint.b.radius", "the ball's radius"});
   // On a sphere (surface = "sphere"), the wheel's keys with the wheel's refusals: sphere_radius
-  // required with it and refused without it, inside only on a sphere and a boolean. (The wheel
-  // takes any sphere_radius expression; so does the ball: its value is not known at load time.)
+  // required with it and refused without it, inside only on a sphere and a boolean; at the
+  // parameters' defaults a sphere_radius > 0, inside larger than the ball.
   BOOST_CHECK_EQUAL(error_of(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\n"), "");
   BOOST_CHECK_EQUAL(error_of(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\ninside = true\n"), "");
   BOOST_CHECK_EQUAL(error_of(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\nunilateral = true\nmu_static = 0.3\nmu_kinetic = 0.1\n"), "");
@@ -385,6 +425,10 @@ BOOST_AUTO_TEST_CASE(ball_joint_bad_keys_are_refused_naming_the_key) {
   expect_error(rolling + "sphere_radius = 1.0\n", {"m.toml", "model.joint.b.sphere_radius", "surface = \"sphere\""});
   expect_error(rolling + "inside = true\n", {"m.toml", "model.joint.b.inside", "surface = \"sphere\""});
   expect_error(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\ninside = 1\n", {"m.toml", "model.joint.b.inside"});
+  expect_error(rolling + "surface = \"sphere\"\nsphere_radius = 0.3\ninside = true\n",
+               {"m.toml", "model.joint.b.sphere_radius", "a radius > the ball's radius = 0.3 with inside = true", "got 0.3"});
+  expect_error(rolling + "surface = \"sphere\"\nsphere_radius = 0\n", {"model.joint.b.sphere_radius", "the sphere's radius > 0, got 0"});
+  expect_error(ball + "radius = -0.3\n", {"m.toml", "model.joint.b.radius", "the ball's radius > 0, got -0.3"});
   expect_error(rolling + "surface = \"sphere\"\nsphere_radius = 2.0\nno_slip = false\nunilateral = true\nmu_static = 0.3\n",
                {"model.joint.b.mu_static", "frictionless ball"});
   // Unknown keys name the ball's own.

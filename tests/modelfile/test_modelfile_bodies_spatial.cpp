@@ -44,6 +44,7 @@
 #include "mech/simulation.hpp"
 #include "modelfile/model_file.hpp"
 #include "modelfile_test_util.hpp"
+#include "../support/pendulum_rk4.hpp"
 
 using namespace pcsim;
 using namespace pcsim::modelfile;
@@ -515,10 +516,7 @@ struct Pendulum {
   double L() const { return inside ? kBR - kBr : kBR + kBr; }
   double acc(double th) const { return (inside ? -1 : 1) * kBg * std::sin(th) / (1.5 * L()); }
   void step(double& th, double& thd, double h) const {
-    const double k1 = thd, l1 = acc(th), k2 = thd + h / 2 * l1, l2 = acc(th + h / 2 * k1),
-                 k3 = thd + h / 2 * l2, l3 = acc(th + h / 2 * k2), k4 = thd + h * l3, l4 = acc(th + h * k3);
-    th += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-    thd += h / 6 * (l1 + 2 * l2 + 2 * l3 + l4);
+    pcsim::testing::rk4_step(th, thd, h, [this](double a) { return acc(a); });
   }
 };
 
