@@ -1031,8 +1031,8 @@ class SpatialBall : public JointType {
   // circle and only the multipliers λ_x, λ_y are taken along the other pair (F_JOINT_x/_y/_z, the
   // force in joint axes, is continuous). A 2-D cone's reference direction (the sliding direction,
   // Config::dir) is held in the pair's components, so a contact sliding across the circle sees
-  // it turn: the engine's stop event ref·v may fire there and the modes are decided again
-  // (docs/bodies-spatial.md).
+  // it turn until it is renewed after the step (test_switching_cli: a ball skidding through the
+  // switch moves as with one chart, without an event; docs/bodies-spatial.md).
   static void sphere_rows(Expander& x, Joint& j, const RollingKeys& k) {
     const Frames& f = k.f;
     const Expr& R = k.radius;
