@@ -1007,10 +1007,22 @@ class SpatialBall : public JointType {
   //   t1 = u1 − (n̂·u1)/(1 + w1·n̂) (w1 + n̂),  t2 = v1 − (n̂·v1)/(1 + w1·n̂) (w1 + n̂),
   // exactly orthonormal and normal to n̂ (n̂·t1 = n̂·u1 − (n̂·u1)(w1·n̂ + 1)/(1 + w1·n̂) = 0), equal to
   // u1, v1 where n̂ = w1 (the top of the sphere outside, the bottom of the bowl inside, with w1
-  // up), and smooth everywhere except the one point n̂ = −w1 (the sphere's bottom outside, the
-  // bowl's top inside), where 1 + w1·n̂ = 0. (A tangent field on a sphere must vanish somewhere;
-  // this one is singular at a single point, opposite the pose a ball rests in under −w1 gravity.)
-  // Nothing is refused at load time; a run that reaches n̂ = −w1 divides by zero there.
+  // up). This chart is singular at n̂ = −w1, where 1 + w1·n̂ = 0 (a tangent field on a sphere must
+  // vanish somewhere), so it serves the hemisphere w1·n̂ >= 0 only; on the other one the second
+  // chart, the rotation of least angle taking −w1 to n̂ applied to the right-handed (u1, −v1, −w1):
+  //   t1 = u1 − (n̂·u1)/(1 − w1·n̂) (n̂ − w1),  t2 = −(v1 − (n̂·v1)/(1 − w1·n̂) (n̂ − w1)),
+  // singular only at n̂ = w1. Both are one formula with σ = +1 (the first chart) where
+  // w1·n̂ > −1/2 and σ = −1 (the second) where w1·n̂ < −1/2:
+  //   t1 = u1 − (n̂·u1) k (σ w1 + n̂),  t2 = σ (v1 − (n̂·v1) k (σ w1 + n̂)),  k = 1/(1 + σ w1·n̂),
+  // with 1 + σ w1·n̂ >= 1/2: no division by less than one half anywhere. The charts meet on the
+  // circle w1·n̂ = −1/2, where both are regular (not at w1·n̂ = 0, which symmetric states hit
+  // exactly) and t1 × t2 = n̂ in both; there the pair turns about n̂. The rows span the same
+  // tangent plane on either side, so no-slip (rough) rows impose the same motion across the
+  // circle and only the multipliers λ_x, λ_y are taken along the other pair (F_JOINT_x/_y/_z, the
+  // force in joint axes, is continuous). A 2-D cone's reference direction (the sliding direction,
+  // Config::dir) is held in the pair's components, so a contact sliding across the circle sees
+  // it turn until it is renewed after the step (test_switching_cli: a ball skidding through the
+  // switch moves as with one chart, without an event; docs/bodies-spatial.md).
   static void sphere_rows(Expander& x, Joint& j, const RollingKeys& k) {
     const Frames& f = k.f;
     const Expr& R = k.radius;
@@ -1036,15 +1048,19 @@ class SpatialBall : public JointType {
     Vec3 F = scale(lam(rn), nh);
     if (no_slip) {
       const Vec3 u1 = named("u1", column(f.E1, 0)), v1 = named("v1", column(f.E1, 1)), w1 = named("w1", column(f.E1, 2));
-      const Expr k = x.define(pre + "k", "1/(1 + " + dot(w1, nh) + ")", j.key);
+      const Expr c = x.define(pre + "cw", dot(w1, nh), j.key);
+      // σ = ±1 on either side of w1·n̂ = −1/2: a step made of min and max (their derivatives are
+      // steps, exactly zero away from the switch; 1e300 |c + 1/2| >= 1 unless c is −1/2 to the last bit).
+      const Expr sg = x.define(pre + "chart", "max(-1, min(1, 1e300*(" + c + " + 1/2)))", j.key);
+      const Expr kc = x.define(pre + "k", "1/(1 + " + mul(sg, c) + ")", j.key);
       const Expr nu = x.define(pre + "nu1", dot(nh, u1), j.key), nv = x.define(pre + "nv1", dot(nh, v1), j.key);
       Vec3 s0;
-      for (int i = 0; i < 3; ++i) s0[i] = add(w1[i], nh[i]);
+      for (int i = 0; i < 3; ++i) s0[i] = add(mul(sg, w1[i]), nh[i]);
       const Vec3 s = named("wn", s0);
       Vec3 t1, t2;
       for (int i = 0; i < 3; ++i) {
-        t1[i] = x.define(pre + "t1" + "xyz"[i], sub(u1[i], nu + "*" + k + "*" + s[i]), j.key);
-        t2[i] = x.define(pre + "t2" + "xyz"[i], sub(v1[i], nv + "*" + k + "*" + s[i]), j.key);
+        t1[i] = x.define(pre + "t1" + "xyz"[i], sub(u1[i], nu + "*" + kc + "*" + s[i]), j.key);
+        t2[i] = x.define(pre + "t2" + "xyz"[i], mul(sg, sub(v1[i], nv + "*" + kc + "*" + s[i])), j.key);
       }
       no_slip_rows(x, j, f, add(f.P2, rho), t1, t2, rn, rx, ry, F);
     }

@@ -2208,7 +2208,7 @@ BOOST_AUTO_TEST_CASE(ball_on_a_sphere_rows_are_the_gap_and_the_sliding_velocity_
         const std::vector<int> rows = indices(*model, {"roll_n", "roll_x", "roll_y"});
         std::mt19937 rng(deck ? 47 : 46);
         double worst_gap = 0, worst_rate = 0, worst = 0, worst_F = 0;
-        int k = 0;
+        int k = 0, upper = 0, lower = 0;
         while (k < 20) {
           Eigen::VectorXd q = Eigen::VectorXd::Zero(model->n()), qd = q;
           Vector3d r1 = X0, v1 = Vector3d::Zero(), wb1 = Vector3d::Zero();
@@ -2224,8 +2224,6 @@ BOOST_AUTO_TEST_CASE(ball_on_a_sphere_rows_are_the_gap_and_the_sliding_velocity_
           const Vector3d P1 = r1 + A1 * p1;
           // The centre at a random direction from S, at the touching distance plus up to 1 cm.
           const Vector3d dir = Vector3d(uniform(rng), uniform(rng), uniform(rng)).normalized();
-          const Vector3d nh = inside ? Vector3d(-dir) : dir;
-          if (1 + U.col(2).dot(nh) < 0.1) continue;  // near the tangents' singular point
           const double L = (inside ? Rs - R : Rs + R) + 0.01 * uniform(rng);
           random_body(rng, X0, 0.0, ib, q, qd);
           const Matrix3d A2 = A_of(q.segment<4>(ib + 3));
@@ -2242,8 +2240,12 @@ BOOST_AUTO_TEST_CASE(ball_on_a_sphere_rows_are_the_gap_and_the_sliding_velocity_
           const double rate = (inside ? -1.0 : 1.0) * nu.dot(vP2 - vP1);
           const double scale = vP2.norm() + vP1.norm() + vC.norm() + vB1.norm();
           worst_rate = std::max(worst_rate, std::abs(got[0] - rate) / scale);
-          const Eigen::Quaterniond Q = Eigen::Quaterniond::FromTwoVectors(U.col(2), n_hat);
-          const Vector3d t1 = Q * U.col(0), t2 = Q * U.col(1);
+          // The chart of w1·n̂ > −1/2 turns (u1, v1, w1) onto n̂, the other one the right-handed
+          // (u1, −v1, −w1).
+          const double sg = U.col(2).dot(n_hat) > -0.5 ? 1.0 : -1.0;
+          const Eigen::Quaterniond Q = Eigen::Quaterniond::FromTwoVectors(sg * U.col(2), n_hat);
+          const Vector3d t1 = Q * U.col(0), t2 = sg * (Q * U.col(1));
+          ++(sg > 0 ? upper : lower);
           const Eigen::Vector2d expected(t1.dot(vC - vB1), t2.dot(vC - vB1));
           worst = std::max(worst, (got.tail<2>() - expected).cwiseAbs().maxCoeff() / scale);
           const std::vector<int> all = all_rows(*model);
@@ -2262,7 +2264,10 @@ BOOST_AUTO_TEST_CASE(ball_on_a_sphere_rows_are_the_gap_and_the_sliding_velocity_
         }
         BOOST_TEST_MESSAGE((deck ? "deck" : "ground") << (inside ? " inside" : " outside") << ": gap row " << worst_gap
                            << " m, its rate " << worst_rate << " and the x, y rows " << worst
-                           << " of |v| against Eigen; reaction " << worst_F << " of |lambda|");
+                           << " of |v| against Eigen; reaction " << worst_F << " of |lambda|; " << upper
+                           << " states with w1.n > -1/2, " << lower << " below");
+        BOOST_TEST(upper > 0);
+        BOOST_TEST(lower > 0);
         BOOST_TEST(worst_gap < 1e-12);
         BOOST_TEST(worst_rate < 1e-12);
         BOOST_TEST(worst < 1e-11);
@@ -2272,9 +2277,62 @@ BOOST_AUTO_TEST_CASE(ball_on_a_sphere_rows_are_the_gap_and_the_sliding_velocity_
   }
 }
 
+namespace {
+// models/ball_bowl_bodies.toml's ball (m, r) and bowl (radius Rb, centre S).
+constexpr double kBowlM = 0.5, kBowlBallR = 0.1, kBowlR = 1.0, kBowlG = 9.81, kBowlL = kBowlR - kBowlBallR;
+const Vector3d kBowlS(300.0, -200.0, 80.0);
+
+// The ball released at rest th0 from the bowl's bottom in the plane y = Y0 (rtol 1e-11, atol
+// 1e-13), sampled every dt: the upward zero crossings of x − X0 (linear between samples), the
+// largest departures of T + V from its start and of y from Y0; `each` sees every sample and the
+// angle th from the bottom.
+struct BowlSwing {
+  mech::SimulationStatus status = mech::SimulationStatus::success;
+  std::vector<double> ups;
+  double err_E = 0, err_y = 0;
+};
+BowlSwing swing_in_bowl(const ModelDescription& desc, double th0, double t_end, double dt,
+                        const std::function<void(const mech::Sample&, double)>& each) {
+  const double m = kBowlM, r = kBowlBallR, g = kBowlG, L = kBowlL;
+  const Vector3d& S = kBowlS;
+  const auto model = desc.instantiate({});
+  Eigen::VectorXd q0(7), qd0 = Eigen::VectorXd::Zero(7);
+  q0 << S + L * Vector3d(std::sin(th0), 0, -std::cos(th0)), 1, 0, 0, 0;
+  mech::SimulationOptions o;
+  o.t_end = t_end;
+  o.rtol = 1e-11;
+  o.atol = 1e-13;
+  o.kernel = Kernel::cpp;
+  o.active_constraints = all_names(*model);
+  auto energy = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    const Vector3d wb = 2 * E_of(q.segment<4>(3)) * qd.segment<4>(3);
+    return 0.5 * m * qd.head<3>().squaredNorm() + 0.5 * 0.4 * m * r * r * wb.squaredNorm() + m * g * (q[2] - S[2]);
+  };
+  const double E0 = energy(q0, qd0);
+  BowlSwing out;
+  double prev_x = q0[0] - S[0], prev_t = 0;
+  int next = 1;
+  out.status = mech::simulate(*model, q0, qd0, o, [&](const mech::StepView& v) {
+    while (next * dt <= v.t + 1e-12) {
+      const mech::Sample smp = v.sample(next * dt);
+      const double x = smp.q[0] - S[0];
+      if (prev_x < 0 && x >= 0) out.ups.push_back(prev_t + (smp.t - prev_t) * (-prev_x) / (x - prev_x));
+      prev_x = x;
+      prev_t = smp.t;
+      out.err_E = std::max(out.err_E, std::abs(energy(smp.q, smp.qd) - E0));
+      out.err_y = std::max(out.err_y, std::abs(smp.q[1] - S[1]));
+      each(smp, std::atan2(x, -(smp.q[2] - S[2])));
+      ++next;
+    }
+    return true;
+  }).status;
+  return out;
+}
+}  // namespace
+
 // A homogeneous ball (J = 2/5 m r^2) rolling without slip in a spherical bowl
 // (models/ball_bowl_bodies.toml: m = 0.5 kg, r = 0.1 m, bowl radius Rb = 1 m centred at
-// (300, -200, 80) m, marker1's z up: the tangents' singular point is the bowl's top, far away).
+// (300, -200, 80) m, marker1's z up: the bottom is in the tangents' first chart, w1·n = 1).
 // In the vertical plane y = Y0, with th the angle of the centre from the bottom and L = Rb - r,
 // the centre moves at L th_d and no slip spins the ball at L th_d / r, so
 // T = 1/2 (m + J/r^2) L^2 th_d^2 = 7/10 m L^2 th_d^2, V = -m g L cos(th):  7/5 L th_dd = -g sin(th),
@@ -2291,52 +2349,86 @@ BOOST_AUTO_TEST_CASE(ball_on_a_sphere_rows_are_the_gap_and_the_sliding_velocity_
 // (the th0^4 term is 4e-15; the crossings' interpolation ~6e-10 at most).
 // Measured (Release): period excess 6.2539e-8 (th0^2/16 = 6.25e-8), energy 2.4e-7 of the swing's.
 BOOST_AUTO_TEST_CASE(ball_rolling_in_a_spherical_bowl_oscillates_at_the_rolling_pendulums_frequency) {
-  const double m = 0.5, r = 0.1, Rb = 1.0, g = 9.81, L = Rb - r, th0 = 1e-3;
-  const Vector3d S(300.0, -200.0, 80.0);
+  const double m = kBowlM, g = kBowlG, L = kBowlL, th0 = 1e-3;
   const double w = std::sqrt(5 * g / (7 * L)), T0 = 2 * M_PI / w, KE = m * g * L * (1 - std::cos(th0));
   const auto desc = load_model_file(model_path("ball_bowl_bodies.toml"));
-  const auto model = desc->instantiate({});
-  Eigen::VectorXd q0(7), qd0 = Eigen::VectorXd::Zero(7);
-  q0 << S + L * Vector3d(std::sin(th0), 0, -std::cos(th0)), 1, 0, 0, 0;
-  mech::SimulationOptions o;
-  o.t_end = 4.2 * T0;
-  o.rtol = 1e-11;
-  o.atol = 1e-13;
-  o.kernel = Kernel::cpp;
-  o.active_constraints = all_names(*model);
   const int iN = output_index(*desc, "normal");
-  auto energy = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-    const Vector3d wb = 2 * E_of(q.segment<4>(3)) * qd.segment<4>(3);
-    return 0.5 * m * qd.head<3>().squaredNorm() + 0.5 * 0.4 * m * r * r * wb.squaredNorm() + m * g * (q[2] - S[2]);
-  };
-  const double E0 = energy(q0, qd0), dt = 1e-3;
-  std::vector<double> ups;
-  double prev_x = q0[0] - S[0], prev_t = 0, err_E = 0, err_y = 0, err_N = 0;
-  int next = 1;
-  const auto res = mech::simulate(*model, q0, qd0, o, [&](const mech::StepView& v) {
-    while (next * dt <= v.t + 1e-12) {
-      const mech::Sample smp = v.sample(next * dt);
-      const double x = smp.q[0] - S[0];
-      if (prev_x < 0 && x >= 0) ups.push_back(prev_t + (smp.t - prev_t) * (-prev_x) / (x - prev_x));
-      prev_x = x;
-      prev_t = smp.t;
-      err_E = std::max(err_E, std::abs(energy(smp.q, smp.qd) - E0));
-      err_y = std::max(err_y, std::abs(smp.q[1] - S[1]));
-      const double th = std::atan2(x, -(smp.q[2] - S[2]));
-      err_N = std::max(err_N, std::abs(smp.derived[iN] - (m * g * std::cos(th) + m * smp.qd.head<3>().squaredNorm() / L)));
-      ++next;
-    }
-    return true;
+  double err_N = 0;
+  const BowlSwing sw = swing_in_bowl(*desc, th0, 4.2 * T0, 1e-3, [&](const mech::Sample& smp, double th) {
+    err_N = std::max(err_N, std::abs(smp.derived[iN] - (m * g * std::cos(th) + m * smp.qd.head<3>().squaredNorm() / L)));
   });
-  BOOST_REQUIRE(res.status == mech::SimulationStatus::success);
-  BOOST_REQUIRE(ups.size() >= 4);
-  const double period = (ups.back() - ups.front()) / static_cast<double>(ups.size() - 1);
+  BOOST_REQUIRE(sw.status == mech::SimulationStatus::success);
+  BOOST_REQUIRE(sw.ups.size() >= 4);
+  const double period = (sw.ups.back() - sw.ups.front()) / static_cast<double>(sw.ups.size() - 1);
   BOOST_TEST_MESSAGE("ball in a bowl: period " << period << " s vs 2 pi/w = " << T0 << " s, relative "
-                     << period / T0 - 1 << " (th0^2/16 = " << th0 * th0 / 16 << "); |E - E0| " << err_E / KE
-                     << " of the swing's energy; |y - Y0| " << err_y << " m; |N - (m g cos th + m v^2/L)| " << err_N / (m * g) << " of m g");
+                     << period / T0 - 1 << " (th0^2/16 = " << th0 * th0 / 16 << "); |E - E0| " << sw.err_E / KE
+                     << " of the swing's energy; |y - Y0| " << sw.err_y << " m; |N - (m g cos th + m v^2/L)| " << err_N / (m * g) << " of m g");
   BOOST_TEST(std::abs(period / T0 - 1) < th0 * th0 / 8);
   BOOST_TEST(std::abs(period / T0 - 1 - th0 * th0 / 16) < 1e-9);
-  BOOST_TEST(err_E < 1e-5 * KE);
-  BOOST_TEST(err_y < 1e-12);
+  BOOST_TEST(sw.err_E < 1e-5 * KE);
+  BOOST_TEST(sw.err_y < 1e-12);
   BOOST_TEST(err_N < 1e-9 * m * g);
+}
+
+// The same ball swinging far in the bowl, through both tangent charts (bodies_spatial.cpp,
+// sphere_rows): released at rest at th0 = 2.3 rad (132°) from the bottom (the rows are bilateral,
+// so the ball stays on the sphere above the rim), it crosses the circle w1·n = −1/2 where the rows
+// change chart, once with marker1's z up (the bottom, w1·n = 1, in the first chart; the switch
+// 60° from the top) and once with marker1 upside down (axis x, angle pi: then the bottom is
+// n = −w1, the point where the first chart alone divided by zero, served by the second chart;
+// the switch 60° from the bottom). Without slip the centre is the pendulum of length 7/5 L
+// (above): its period from rest at th0 is exact, T = 4 sqrt(7 L/(5 g)) K(sin(th0/2))
+// (std::comp_ellint_1), matched by the mean period of the upward zero crossings of x − X0
+// (interpolated linearly between 1e-4 s samples; the interpolation's error is the same at every
+// crossing and cancels) to 1e-8 relative; the energy stays E0 to 1e-8 of m g L (rtol 1e-11 over
+// 3.3 swings); the ball stays in the plane y = Y0 (1e-10 m); the friction force's magnitude
+// |(λ_x, λ_y)|, whichever pair carries it, is (2/7) m g |sin th| (from m L th_dd = −m g sin th + F_t
+// with 7/5 L th_dd = −g sin th) to 1e-8 of m g.
+// Measured (Release), both frames: period −4.5e-10 relative, energy 3.6e-9 of m g L, F_t 1.6e-9
+// of m g, 13 chart switches; upside down the samples come within 1 + w1·n = 4e-10 of the first
+// chart's singular point.
+BOOST_AUTO_TEST_CASE(ball_swinging_in_a_bowl_through_both_tangent_charts_keeps_the_exact_pendulum_period) {
+  const double m = kBowlM, g = kBowlG, L = kBowlL, th0 = 2.3;
+  const double T = 4 * std::sqrt(7 * L / (5 * g)) * std::comp_ellint_1(std::sin(th0 / 2));
+  std::ifstream in(model_path("ball_bowl_bodies.toml"));
+  std::stringstream buf;
+  buf << in.rdbuf();
+  for (const bool flipped : {false, true}) {
+    BOOST_TEST_CONTEXT((flipped ? "marker1 upside down" : "marker1 upright")) {
+      std::string text = buf.str();
+      if (flipped) {
+        const std::string plain = "centre = [\"X0\", \"Y0\", \"Z0\"]";
+        BOOST_REQUIRE(text.find(plain) != std::string::npos);
+        text.replace(text.find(plain), plain.size(),
+                     "centre = { at = [\"X0\", \"Y0\", \"Z0\"], axis = [1, 0, 0], angle = \"pi\" }");
+      }
+      text.replace(text.find("[model.outputs]"), 15, "[model.outputs]\nft = \"sqrt(lambda_roll_x^2 + lambda_roll_y^2)\"\ncw = \"roll_cw\"");
+      const auto desc = load_model_text(text, "ball_bowl_swing.toml");
+      const int iF = output_index(*desc, "ft"), iC = output_index(*desc, "cw");
+      double err_F = 0, nearest = 2, prev_c = 0;
+      int switches = 0;
+      bool first = true;
+      const BowlSwing sw = swing_in_bowl(*desc, th0, 3.3 * T, 1e-4, [&](const mech::Sample& smp, double th) {
+        err_F = std::max(err_F, std::abs(smp.derived[iF] - 2.0 / 7.0 * m * g * std::abs(std::sin(th))));
+        const double c = smp.derived[iC];  // w1·n: the first chart's singular point is c = -1
+        nearest = std::min(nearest, 1 + c);
+        if (!first && (c < -0.5) != (prev_c < -0.5)) ++switches;
+        prev_c = c;
+        first = false;
+      });
+      BOOST_REQUIRE(sw.status == mech::SimulationStatus::success);
+      BOOST_REQUIRE(sw.ups.size() >= 3);
+      const double period = (sw.ups.back() - sw.ups.front()) / static_cast<double>(sw.ups.size() - 1);
+      BOOST_TEST_MESSAGE((flipped ? "upside down" : "upright") << ": period " << period << " s vs the exact " << T
+                         << " s, relative " << period / T - 1 << "; |E - E0| " << sw.err_E / (m * g * L) << " of m g L; |y - Y0| "
+                         << sw.err_y << " m; |F_t - 2/7 m g |sin th|| " << err_F / (m * g) << " of m g; " << switches
+                         << " chart switches; closest 1 + w1.n " << nearest);
+      BOOST_TEST(std::abs(period / T - 1) < 1e-8);
+      BOOST_TEST(sw.err_E < 1e-8 * m * g * L);
+      BOOST_TEST(sw.err_y < 1e-10);
+      BOOST_TEST(err_F < 1e-8 * m * g);
+      BOOST_TEST(switches >= 12);
+      if (flipped) BOOST_TEST(nearest < 1e-6);  // through the first chart's singular point
+    }
+  }
 }

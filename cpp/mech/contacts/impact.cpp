@@ -106,13 +106,24 @@ bool ImpactLaw::resolve(double t, const Eigen::VectorXd& q, Eigen::VectorXd& qd,
   };
   const Problem newton = p;  // before assemble(): the plastic problem below starts from it
   Eigen::VectorXd z;
-  if (!solve_problem(cs_, p, lcp_, t, z, lcp_counters_, message)) return false;
-  Eigen::VectorXd Lam = p.E * z;
+  // With a 2-D cone, Newton's law with restitution may have no solution (no method finds one:
+  // three planes wedging the body, the squeeze that Newton's rebound needs outside a cone); the
+  // impulse is then the plastic one, as where Newton's impulse leaves a contact approaching
+  // (below). Without a cone, and without restitution, no solution is a failure, as before.
+  bool cone = false, restitution = false;
+  for (const Cand& k : p.cands) {
+    cone = cone || k.kt2 >= 0;
+    restitution = restitution || k.e > 0.0;
+  }
+  const bool newton_found = solve_problem(cs_, p, lcp_, t, z, lcp_counters_, message);
+  if (!newton_found && !(cone && restitution)) return false;
+  if (!newton_found) message.clear();
+  Eigen::VectorXd Lam = newton_found ? Eigen::VectorXd(p.E * z) : Eigen::VectorXd::Zero(J.rows());
   // The energy rule.
   bool limited = false;
   double round = 0.0;
   double dT = energy_change(Lam, &round);
-  const bool newton_solves = leaves_none_approaching(Lam);
+  const bool newton_solves = newton_found && leaves_none_approaching(Lam);
   if (dT > round || !newton_solves) {
     Problem plastic = newton;
     for (Cand& k : plastic.cands) k.e = 0.0;
@@ -288,7 +299,12 @@ ImpactOutcome resolve_impact(const Model& model, const std::vector<std::string>&
   before.sigma.assign(cs.nc(), 0);
   std::vector<char> hit(cs.nc(), 0);
   out.qd_after = qd;
-  if (!law.resolve(t, q, out.qd_after, before, out.events, hit, shares, out.message)) return out;
+  const bool resolved = law.resolve(t, q, out.qd_after, before, out.events, hit, shares, out.message);
+  out.cone_sweeps = lcp_counters.cone_sweeps;
+  out.cone_fallbacks = lcp_counters.cone_fallbacks;
+  out.cone_unsolved = lcp_counters.cone_unsolved;
+  out.cone_newton_steps = lcp_counters.cone_newton_steps;
+  if (!resolved) return out;
   out.ok = true;
   out.energy_change = out.events.empty() ? 0.0 : law.counters().last_energy_change;
   out.energy_limited = law.counters().energy_limited;

@@ -412,8 +412,304 @@ bool solve_local(const Cand& k, const Local& l, Eigen::VectorXd& lam, double& ze
   return true;
 }
 
-/// Moreau's nonsmooth Gauss-Seidel over the candidates: z in the layout of assemble().
-bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why) {
+// ---- the fallback: the laws of all contacts at once -----------------------------------------
+//
+// Gauss-Seidel stalls where contacts wedge the body (three planes squeezing a tetrahedron: up to
+// nine rows on six velocities): W is singular, forces Λ0 with W Λ0 = 0 squeeze the body without
+// moving it, and sweep after sweep adds such a squeeze, so the forces drift without settling
+// (or settle slowly short of a solution). The laws are then solved at once. With per-contact
+// ρ = 1/W_nn and the contact's unknowns y (Λn, Λt of a frictional contact; Λn only of a
+// frictionless or sliding one, whose tangential force −μ Λn d follows), u = W E y + b, the law of
+// each contact holds iff (Alart and Curnier's equations)
+//   Φn = Λn − max(0, ξn) = 0,                     ξn = Λn − ρ u_n,
+//   Φt = Λt − P_B(r)(ξt) = 0,  r = μ max(0, ξn),  ξt = Λt − ρ u_t,
+// P_B(r) the projection on the disk (interval) of radius r: Λn >= 0, u_n >= 0, Λn u_n = 0 from
+// the first; from the second |Λt| <= μ Λn, with u_t = 0 inside and u_t = −α Λt, α >= 0, on the
+// boundary (the slide against the friction force), Λt = 0 where the contact is open. Φ is
+// piecewise smooth, and positively homogeneous of degree one in (y, b), so it is solved for
+// b / s with s = max ρ|b| (unknowns of order one) and scaled back. Two methods, in turn:
+// - Levenberg-Marquardt steps (HᵀH + ν I) δ = −HᵀΦ, H an element of Φ's generalized Jacobian,
+//   ν = |Φ|² (with which the method converges quadratically to a solution set that is not
+//   isolated, under a local error bound: Yamashita and Fukushima 2001), with Armijo's
+//   backtracking on the merit ½|Φ|²; the step lies in the row space of H, so it adds no
+//   squeeze the laws do not need. From Gauss-Seidel's last forces, then from zero. A merit
+//   method can stop at a point where |Φ| > 0 is locally least (Coulomb's law is not monotone);
+// - so then De Saxcé's fixed point (de_saxce): convex problems on the cones, whose solution
+//   exists and is found by a projected gradient method, their results polished by the steps above.
+// A result is accepted when |Φ| <= 1e-12 of the unknowns' size. Where the solution is not
+// unique (W singular), it is the one these steps reach: any forces satisfying the laws, not a
+// least-norm choice among them (the velocities they make, W Λ + b, are what the laws fix).
+
+/// Unknowns of the Newton method and the map E (rows of J x unknowns, Λ_J = E y).
+struct Unknowns {
+  std::vector<int> at;  // first unknown of each candidate
+  std::vector<int> m;   // its count: 1, 2 (a 1-D cone) or 3 (a 2-D cone)
+  Eigen::MatrixXd E;
+};
+
+Unknowns unknowns_of(const Problem& p) {
+  Unknowns un;
+  int ny = 0;
+  for (const Cand& k : p.cands) {
+    un.at.push_back(ny);
+    un.m.push_back(k.frictional ? 1 + (k.kt >= 0) + (k.kt2 >= 0) : 1);
+    ny += un.m.back();
+  }
+  un.E = Eigen::MatrixXd::Zero(p.W.rows(), ny);
+  for (std::size_t i = 0; i < p.cands.size(); ++i) {
+    const Cand& k = p.cands[i];
+    const int y = un.at[i];
+    un.E(k.kn, y) = 1.0;
+    if (k.frictional) {
+      if (k.kt >= 0) un.E(k.kt, y + 1) = 1.0;
+      if (k.kt2 >= 0) un.E(k.kt2, y + 2) = 1.0;
+    } else if (k.kt2 >= 0) {
+      un.E(k.kt, y) = -k.mu * k.dir[0];
+      un.E(k.kt2, y) = -k.mu * k.dir[1];
+    } else if (k.kt >= 0 && k.sigma != 0) {
+      un.E(k.kt, y) = -k.mu * k.sigma;
+    }
+  }
+  return un;
+}
+
+/// Φ(y) of the Alart-Curnier equations and, if H is given, an element of its generalized
+/// Jacobian. G = W E, u = G y + b.
+Eigen::VectorXd alart_curnier(const Problem& p, const Unknowns& un, const Eigen::MatrixXd& G,
+                              const Eigen::VectorXd& b, const Eigen::VectorXd& rho,
+                              const Eigen::VectorXd& y, Eigen::MatrixXd* H) {
+  const int ny = static_cast<int>(y.size());
+  const Eigen::VectorXd u = G * y + b;
+  Eigen::VectorXd phi(ny);
+  if (H) *H = Eigen::MatrixXd::Identity(ny, ny);
+  for (std::size_t i = 0; i < p.cands.size(); ++i) {
+    const Cand& k = p.cands[i];
+    const int a = un.at[i], m = un.m[i];
+    const double r = rho[static_cast<Eigen::Index>(i)];
+    const double xn = y[a] - r * u[k.kn];
+    phi[a] = y[a] - std::max(0.0, xn);
+    if (H && xn > 0.0) H->row(a) = r * G.row(k.kn);  // Φn = ρ u_n
+    if (m == 1) continue;
+    const int rows[2] = {k.kt, k.kt2};
+    Eigen::VectorXd xt(m - 1);
+    for (int j = 0; j < m - 1; ++j) xt[j] = y[a + 1 + j] - r * u[rows[j]];
+    const double radius = k.mu * std::max(0.0, xn), nx = xt.norm();
+    if (nx <= radius) {  // inside: Φt = ρ u_t
+      for (int j = 0; j < m - 1; ++j) {
+        phi[a + 1 + j] = r * u[rows[j]];
+        if (H) H->row(a + 1 + j) = r * G.row(rows[j]);
+      }
+      continue;
+    }
+    const Eigen::VectorXd dir = xt / nx;
+    for (int j = 0; j < m - 1; ++j) phi[a + 1 + j] = y[a + 1 + j] - radius * dir[j];
+    if (!H) continue;
+    // d(r ξ̂) = ξ̂ dr + (r/|ξ|) (I − ξ̂ξ̂ᵀ) dξ, dr = μ dξn (ξn > 0), dξ = dΛt − ρ G_t dy.
+    Eigen::MatrixXd dxt(m - 1, ny);
+    for (int j = 0; j < m - 1; ++j) {
+      dxt.row(j) = -r * G.row(rows[j]);
+      dxt(j, a + 1 + j) += 1.0;
+    }
+    Eigen::RowVectorXd dxn = -r * G.row(k.kn);
+    dxn[a] += 1.0;
+    const Eigen::MatrixXd proj = Eigen::MatrixXd::Identity(m - 1, m - 1) - dir * dir.transpose();
+    Eigen::MatrixXd d = (radius / nx) * proj * dxt;
+    if (xn > 0.0) d += k.mu * dir * dxn;
+    for (int j = 0; j < m - 1; ++j) {
+      H->row(a + 1 + j) = -d.row(j);
+      (*H)(a + 1 + j, a + 1 + j) += 1.0;
+    }
+  }
+  return phi;
+}
+
+/// The Alart-Curnier equations of a problem, scaled (b / s), with what the methods need.
+struct Equations {
+  const Problem& p;
+  Unknowns un;
+  Eigen::MatrixXd G;     // W E
+  Eigen::VectorXd rho;   // per candidate, 1/W_nn
+  Eigen::VectorXd bs;    // b / s
+  double s = 0.0;
+  Eigen::VectorXd phi(const Eigen::VectorXd& y, Eigen::MatrixXd* H) const {
+    return alart_curnier(p, un, G, bs, rho, y, H);
+  }
+  bool solved(const Eigen::VectorXd& phi_y, const Eigen::VectorXd& y, double tol) const {
+    return phi_y.cwiseAbs().maxCoeff() <= tol * std::max(1.0, y.cwiseAbs().maxCoeff());
+  }
+};
+
+/// Levenberg-Marquardt steps with ν = |Φ|² and Armijo's backtracking from y (in place) until
+/// |Φ| <= 1e-14 of |y| or no step decreases the merit. Returns whether |Φ| <= 1e-12 of |y|.
+bool levenberg_marquardt(const Equations& eq, Eigen::VectorXd& y, long& steps) {
+  const int ny = static_cast<int>(y.size());
+  Eigen::MatrixXd H;
+  Eigen::VectorXd phi = eq.phi(y, &H);
+  double merit = 0.5 * phi.squaredNorm();
+  for (int it = 0; it < 300 && !eq.solved(phi, y, 1e-14); ++it) {
+    ++steps;
+    const Eigen::VectorXd grad = H.transpose() * phi;
+    Eigen::MatrixXd A(2 * ny, ny);
+    A << H, std::sqrt(2.0 * merit) * Eigen::MatrixXd::Identity(ny, ny);  // √ν, ν = |Φ|²
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * ny);
+    rhs.head(ny) = -phi;
+    const Eigen::VectorXd delta = A.completeOrthogonalDecomposition().solve(rhs);
+    const double slope = grad.dot(delta);
+    if (!delta.allFinite() || !(slope < 0.0)) break;
+    double t = 1.0;
+    Eigen::VectorXd yt;
+    bool moved = false;
+    for (int ls = 0; ls < 60 && !moved; ++ls, t *= 0.5) {
+      yt = y + t * delta;
+      moved = 0.5 * eq.phi(yt, nullptr).squaredNorm() <= merit + 1e-4 * t * slope;
+    }
+    if (!moved) break;
+    y = yt;
+    phi = eq.phi(y, &H);
+    merit = 0.5 * phi.squaredNorm();
+  }
+  return y.allFinite() && eq.solved(phi, y, 1e-12);
+}
+
+/// The projection on the product of the candidates' cones: |Λt| <= μ Λn of a frictional one,
+/// Λn >= 0 of the others.
+void project_cones(const Equations& eq, Eigen::VectorXd& y) {
+  for (std::size_t i = 0; i < eq.p.cands.size(); ++i) {
+    const int a = eq.un.at[i], m = eq.un.m[i];
+    const double mu = eq.p.cands[i].mu;
+    if (m == 1) {
+      y[a] = std::max(y[a], 0.0);
+      continue;
+    }
+    const double n = y[a], t = y.segment(a + 1, m - 1).norm();
+    if (t <= mu * n) continue;
+    if (mu * t <= -n) {  // in the polar cone: to the apex
+      y.segment(a, m).setZero();
+      continue;
+    }
+    const double pn = (n + mu * t) / (1.0 + mu * mu);
+    y[a] = pn;
+    y.segment(a + 1, m - 1) *= mu * pn / t;
+  }
+}
+
+/// De Saxcé's fixed point: with s_n = μ |u_t| of each frictional contact fixed, Coulomb's law is
+/// the convex problem min ½ yᵀ Wy y + (b + s)ᵀ y over the cones (its optimality conditions are
+/// the law with u_n replaced by u_n + μ|u_t|, which is the law itself where s matches), solved
+/// by Nesterov's accelerated projected gradient with adaptive restart (O'Donoghue and Candès);
+/// s is renewed from the result, 50 times. Only problems whose unknowns are all frictional or
+/// frictionless (every impact's): a sliding contact's force −μ Λn d makes the problem no
+/// gradient. Its result then starts the Levenberg-Marquardt steps.
+bool de_saxce(const Equations& eq, Eigen::VectorXd& y, long& steps) {
+  for (const Cand& k : eq.p.cands)
+    if (!k.frictional && k.kt >= 0) return false;
+  const Eigen::MatrixXd Wy = eq.un.E.transpose() * eq.p.W * eq.un.E;
+  const Eigen::VectorXd by = eq.un.E.transpose() * eq.bs;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Wy, Eigen::EigenvaluesOnly);
+  const double lip = es.eigenvalues().maxCoeff();
+  if (!(lip > 0.0)) return false;
+  project_cones(eq, y);
+  for (int outer = 0; outer < 50; ++outer) {
+    const Eigen::VectorXd u = eq.G * y + eq.bs;
+    Eigen::VectorXd c = by;
+    for (std::size_t i = 0; i < eq.p.cands.size(); ++i) {
+      const Cand& k = eq.p.cands[i];
+      if (eq.un.m[i] == 1) continue;
+      c[eq.un.at[i]] += k.mu * std::hypot(u[k.kt], k.kt2 >= 0 ? u[k.kt2] : 0.0);
+    }
+    Eigen::VectorXd x = y, z = y;
+    double tk = 1.0;
+    for (int it = 0; it < 3000; ++it) {
+      ++steps;
+      Eigen::VectorXd xn = z - (Wy * z + c) / lip;
+      project_cones(eq, xn);
+      const double tn = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * tk * tk));
+      const Eigen::VectorXd dx = xn - x;
+      if ((Wy * xn + c).dot(dx) > 0.0) {  // the objective would rise: restart the momentum
+        z = xn;
+        tk = 1.0;
+      } else {
+        z = xn + ((tk - 1.0) / tn) * dx;
+        tk = tn;
+      }
+      x = xn;
+      if (dx.cwiseAbs().maxCoeff() <= 1e-16 * std::max(1.0, x.cwiseAbs().maxCoeff())) break;
+    }
+    y = x;
+    if (!y.allFinite()) return false;
+  }
+  return levenberg_marquardt(eq, y, steps);
+}
+
+/// The fallback from each start in turn (Levenberg-Marquardt steps on the Alart-Curnier
+/// equations), then De Saxcé's fixed point from the first; Λ_J = E y of the first that
+/// converges. Returns false if none does.
+/// The equations of problem p with free values b; false if a contact has no normal inertia.
+bool equations_of(const Problem& p, const Eigen::VectorXd& b, Equations& eq) {
+  eq.G = p.W * eq.un.E;
+  eq.rho.resize(static_cast<Eigen::Index>(p.cands.size()));
+  eq.s = 0.0;
+  for (std::size_t i = 0; i < p.cands.size(); ++i) {
+    const Cand& k = p.cands[i];
+    const double wnn = p.W(k.kn, k.kn);
+    if (!(wnn > 0.0)) return false;
+    eq.rho[static_cast<Eigen::Index>(i)] = 1.0 / wnn;
+    eq.s = std::max(eq.s, std::abs(b[k.kn]) / wnn);
+    if (k.kt >= 0) eq.s = std::max(eq.s, std::abs(b[k.kt]) / wnn);
+    if (k.kt2 >= 0) eq.s = std::max(eq.s, std::abs(b[k.kt2]) / wnn);
+  }
+  if (!(eq.s > 0.0)) return false;
+  eq.bs = b / eq.s;
+  return true;
+}
+
+/// The unknowns y (scaled by 1/s) of forces Λ_J: Λn and, of a frictional contact, its Λt rows.
+Eigen::VectorXd unknowns_from(const Equations& eq, const Eigen::VectorXd& Lam) {
+  Eigen::VectorXd y(eq.un.E.cols());
+  for (std::size_t i = 0; i < eq.p.cands.size(); ++i) {
+    const Cand& k = eq.p.cands[i];
+    const int a = eq.un.at[i];
+    y[a] = Lam[k.kn] / eq.s;
+    if (eq.un.m[i] > 1) y[a + 1] = Lam[k.kt] / eq.s;
+    if (eq.un.m[i] > 2) y[a + 2] = Lam[k.kt2] / eq.s;
+  }
+  return y;
+}
+
+/// Whether forces Λ_J satisfy every contact's law to `tol` of their size (|Φ| <= tol |y|).
+bool laws_hold(const Problem& p, const Eigen::VectorXd& b, const Eigen::VectorXd& Lam, double tol) {
+  Equations eq{p, unknowns_of(p), {}, {}, {}, 0.0};
+  if (!equations_of(p, b, eq)) return true;  // b = 0 (Λ = 0) or no normal inertia: not judged
+  const Eigen::VectorXd y = unknowns_from(eq, Lam);
+  return y.allFinite() && eq.solved(eq.phi(y, nullptr), y, tol);
+}
+
+/// The fallback from each start in turn (Levenberg-Marquardt steps on the Alart-Curnier
+/// equations), then De Saxcé's fixed point from the first; Λ_J = E y of the first that
+/// converges. Returns false if none does.
+bool newton_cones(const Problem& p, const Eigen::VectorXd& b, const std::vector<Eigen::VectorXd>& starts,
+                  Eigen::VectorXd& Lam, long& steps) {
+  Equations eq{p, unknowns_of(p), {}, {}, {}, 0.0};
+  if (!equations_of(p, b, eq)) return false;
+  std::vector<Eigen::VectorXd> ys;
+  for (const Eigen::VectorXd& start : starts) {
+    Eigen::VectorXd y = unknowns_from(eq, start);
+    if (!y.allFinite()) y.setZero();
+    ys.push_back(y);
+  }
+  for (std::size_t r = 0; r <= ys.size(); ++r) {
+    Eigen::VectorXd y = ys[r % ys.size()];
+    if (r < ys.size() ? levenberg_marquardt(eq, y, steps) : de_saxce(eq, y, steps)) {
+      Lam = eq.un.E * (eq.s * y);
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Moreau's nonsmooth Gauss-Seidel over the candidates, the damped Newton method where it
+/// stalls: z in the layout of assemble().
+bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why, LcpCounters& counters) {
   const int nj = static_cast<int>(p.W.rows());
   Eigen::VectorXd b(nj);
   for (const Cand& k : p.cands) {
@@ -443,7 +739,9 @@ bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why) {
   // settles the iteration.
   Eigen::VectorXd u_prev = b;
   const double u_scale = 1.0 + b.cwiseAbs().maxCoeff();
-  for (int sweep = 0; sweep < max_sweeps && !converged; ++sweep) {
+  bool stalled = false;  // a contact without a local solution
+  for (int sweep = 0; sweep < max_sweeps && !converged && !stalled; ++sweep) {
+    ++counters.cone_sweeps;
     double change = 0.0, size = 0.0;
     for (std::size_t i = 0; i < p.cands.size(); ++i) {
       Local& l = loc[i];
@@ -456,9 +754,8 @@ bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why) {
       }
       Eigen::VectorXd lam;
       if (!solve_local(p.cands[i], l, lam, zeta[i])) {
-        why = "no local solution of Coulomb's law at one contact (the friction force would cancel "
-              "the normal one: Painleve's paradox)";
-        return false;
+        stalled = true;
+        break;
       }
       for (int a = 0; a < m; ++a) {
         change = std::max(change, std::abs(lam[a] - Lam[l.rows[a]]));
@@ -466,17 +763,37 @@ bool solve_cones(const Problem& p, Eigen::VectorXd& z, std::string& why) {
         Lam[l.rows[a]] = lam[a];
       }
     }
+    if (stalled) break;
     const Eigen::VectorXd u = p.W * Lam + b;
     const double u_change = (u - u_prev).cwiseAbs().maxCoeff();
     u_prev = u;
     converged = change <= 1e-14 * size || (p.cands.size() == 1 && sweep == 0) || size == 0.0 ||
                 (sweep > 0 && u_change <= 1e-14 * u_scale);
   }
+  // Gauss-Seidel can also settle short of a solution (its forces' changes shrinking slowly
+  // below 1e-14 without the laws holding): its result is kept only if every contact's law holds
+  // to 1e-9 (the Alart-Curnier residual, below), which every result of its converged
+  // sweeps meets to rounding.
+  if (converged && !laws_hold(p, b, Lam, 1e-9)) converged = false;
   if (!converged) {
-    why = "the contact forces with 2-D friction cones did not converge in 2000 Gauss-Seidel sweeps "
-          "(contacts that pose dependent conditions, wedging the body: forces that squeeze it "
-          "without moving it are not determined)";
-    return false;
+    // The laws at once (above), from Gauss-Seidel's last forces, then from none; ζ is then the
+    // sliding magnitude |u_t| after (zero, to rounding, where a contact sticks).
+    ++counters.cone_fallbacks;
+    const std::vector<Eigen::VectorXd> starts{Lam, Eigen::VectorXd::Zero(nj)};
+    if (!newton_cones(p, b, starts, Lam, counters.cone_newton_steps)) {
+      ++counters.cone_unsolved;
+      why = stalled ? "no local solution of Coulomb's law at one contact (the friction force would cancel "
+                      "the normal one: Painleve's paradox), nor a solution of all contacts' laws at once"
+                    : "the contact forces with 2-D friction cones did not converge in 2000 Gauss-Seidel "
+                      "sweeps, nor did a damped Newton method on all contacts' laws at once";
+      return false;
+    }
+    const Eigen::VectorXd u = p.W * Lam + b;
+    for (std::size_t i = 0; i < p.cands.size(); ++i) {
+      const Cand& k = p.cands[i];
+      if (!k.frictional || k.kt < 0) continue;
+      zeta[i] = k.kt2 >= 0 ? std::hypot(u[k.kt], u[k.kt2]) : std::abs(u[k.kt]);
+    }
   }
   int nz = 0;
   for (const Cand& k : p.cands) nz = std::max(nz, k.zn + (k.frictional ? 4 : 1));
@@ -506,7 +823,7 @@ bool solve_problem(const ContactSet& cs, Problem& p, const LcpSettings& settings
   for (const Cand& k : p.cands) cone = cone || k.kt2 >= 0;
   if (cone) {
     std::string why;
-    if (solve_cones(p, z, why)) return true;
+    if (solve_cones(p, z, why, counters)) return true;
     message = std::string(p.impulse ? "the impact" : "the contact modes") + " at t = " + num(t) +
               " (contacts " + names(cs, p) + "): " + why;
     return false;

@@ -63,6 +63,10 @@ struct LcpSettings {
 struct LcpCounters {
   long solves = 0;                   ///< problems solved by the LCP solver
   bool library_unavailable = false;  ///< the last failure was the solver library's absence
+  long cone_sweeps = 0;              ///< Gauss-Seidel sweeps over problems with a 2-D cone
+  long cone_fallbacks = 0;           ///< of those, problems handed to the fallback (all laws at once)
+  long cone_unsolved = 0;            ///< of those, problems it found no solution of
+  long cone_newton_steps = 0;        ///< its steps (Levenberg-Marquardt and projected gradient)
 };
 
 /// Rows J (normal, then tangent of each candidate) at the state; sets the candidates' kn, kt.
@@ -82,8 +86,10 @@ ModelIssue contact_inertia(Dynamics& d, const ContactSet& cs, double t, const Ei
 
 /// Solves the problem: closed form for one candidate (settings permitting), else the LCP
 /// solver; a problem with a 2-D cone by the nonsmooth block Gauss-Seidel method (each contact's
-/// exact local solution in turn, the others' forces fixed, until they no longer change). Returns
-/// false with `message` set when no solution is found.
+/// exact local solution in turn, the others' forces fixed, until they no longer change), and
+/// where that stalls (a wedged body: W singular, the squeeze undetermined) by a damped
+/// semismooth Newton method on the Alart-Curnier equations. Returns false with `message` set
+/// when no solution is found.
 bool solve_problem(const ContactSet& cs, Problem& p, const LcpSettings& settings, double t,
                    Eigen::VectorXd& z, LcpCounters& counters, std::string& message);
 

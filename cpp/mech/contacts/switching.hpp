@@ -152,6 +152,9 @@ struct ImpactOutcome {
   std::vector<ContactEvent> events;
   double energy_change = 0.0;
   long energy_limited = 0;  ///< 1 when the energy rule limited Newton's impulse
+  /// Problems with a 2-D cone: Gauss-Seidel sweeps, problems handed to the fallback where it
+  /// stalled, those it found no solution of, and its steps (contacts::LcpCounters).
+  long cone_sweeps = 0, cone_fallbacks = 0, cone_unsolved = 0, cone_newton_steps = 0;
 };
 ImpactOutcome resolve_impact(const Model& model, const std::vector<std::string>& active, double t,
                              const Eigen::VectorXd& q, const Eigen::VectorXd& qd,

@@ -7,9 +7,22 @@
 // law contact by contact, the energy rule, the accumulation rule) never increases
 // T = ½ Σ m_i |v_i|² beyond rounding, leaves no touching contact approaching, and keeps each
 // tangential impulse in its cone. The oracle is T and the velocities computed here.
+//
+// Every generated impact is resolved, the wedged ones too: three planes that squeeze the
+// tetrahedron pose up to nine rows on its six velocities, forces that squeeze it without moving
+// it are undetermined, and there Gauss-Seidel's forces drift without settling (ten resolutions
+// were refused before) or settle short of a solution (one more, accepted before with its laws
+// violated by 3.5e-3). Those go to the fallback on all contacts' laws at once (lcp_problem.cpp:
+// Levenberg-Marquardt steps on the Alart-Curnier equations, De Saxcé's fixed point), which solves
+// Newton's law with the cones in all but two wedged impacts (each resolved twice, with and without
+// zeno_time); there none is found and the impact is the plastic one (impact.cpp), flagged as
+// limited. The squeeze is not determined, so the laws are checked, not an impulse: Newton's law
+// at every contact with an impulse (v_n⁺ = −e v_n⁻), and a contact that slides after the impulse
+// on its cone's boundary.
 #define BOOST_TEST_MODULE switching_cone_impacts
 #include <boost/test/unit_test.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -69,6 +82,8 @@ BOOST_AUTO_TEST_CASE(impacts_with_2d_cones_never_create_energy_nor_leave_a_conta
   };
   long trials = 0, refused = 0, impacts = 0, several = 0, limited = 0, cones = 0;
   long refused_by[4] = {0, 0, 0, 0};
+  long sweeps = 0, fallbacks = 0, unsolved = 0, newton_steps = 0, newton_checked = 0, slide_checked = 0;
+  const auto clock_start = std::chrono::steady_clock::now();
   double worst_gain = -1.0;
   for (int trial = 0; trial < 600; ++trial) {
     const int nc = 1 + trial % 3;
@@ -131,6 +146,10 @@ BOOST_AUTO_TEST_CASE(impacts_with_2d_cones_never_create_energy_nor_leave_a_conta
       o.rtol = o.atol = 1e-10;
       const ImpactOutcome r = resolve_impact(*model, active, 0.0, q, qd, o, sw);
       ++trials;
+      sweeps += r.cone_sweeps;
+      fallbacks += r.cone_fallbacks;
+      unsolved += r.cone_unsolved;
+      newton_steps += r.cone_newton_steps;
       if (!r.ok) {
         BOOST_TEST(r.message.find("the impact at t = 0 (contacts 'c1'") != std::string::npos, r.message);
         ++refused;
@@ -154,10 +173,26 @@ BOOST_AUTO_TEST_CASE(impacts_with_2d_cones_never_create_energy_nor_leave_a_conta
         BOOST_TEST(vn_after >= -1e-8 * (1 + qd.norm()), "trial " << trial << ": contact " << k << " still approaches: " << vn_after);
       }
       for (const ContactEvent& e : r.events) {
+        const std::string K = e.constraint.substr(1);
         BOOST_TEST(e.normal >= -1e-12);
         BOOST_TEST(e.tangential >= 0.0);  // a cone's magnitude
-        BOOST_TEST(e.tangential <= p["mu" + e.constraint.substr(1)] * e.normal * (1 + 1e-9) + 1e-12,
+        BOOST_TEST(e.tangential <= p["mu" + K] * e.normal * (1 + 1e-9) + 1e-12,
                    "trial " << trial << ": |Lambda_t| " << e.tangential << " outside the cone of " << e.normal);
+        // The laws where Newton's impulse was taken (neither limited by the energy rule nor
+        // replaced by an accumulation's closure, which a rebound above 1e-5 m/s is not): an
+        // approaching contact with an impulse leaves at −e v_n⁻, and one that slides after it
+        // has its friction impulse on the cone's boundary.
+        const double vtol = 1e-8 * (1 + qd.norm());
+        if (zeno == 0.0 && !r.energy_limited && e.normal > 1e-9 && -p["e" + K] * e.vn_before > 1e-5) {
+          ++newton_checked;
+          BOOST_TEST(std::abs(e.vn_after + p["e" + K] * e.vn_before) <= vtol,
+                     "trial " << trial << ": " << e.constraint << " leaves at " << e.vn_after << ", not " << -p["e" + K] * e.vn_before);
+        }
+        if (zeno == 0.0 && !r.energy_limited && e.vt_after > vtol && p["mu" + K] > 0.0) {
+          ++slide_checked;
+          BOOST_TEST(e.tangential >= p["mu" + K] * e.normal * (1 - 1e-9) - 1e-12,
+                     "trial " << trial << ": " << e.constraint << " slides on at " << e.vt_after << " inside its cone");
+        }
       }
       // The rods hold through the impulse: the velocities stay rigid.
       for (int i = 0; i < 4; ++i)
@@ -172,8 +207,14 @@ BOOST_AUTO_TEST_CASE(impacts_with_2d_cones_never_create_energy_nor_leave_a_conta
                             << several << " with several contacts), " << limited
                             << " limited by the energy rule; largest relative change of T " << worst_gain);
   BOOST_TEST_MESSAGE("refused with 1, 2, 3 contacts: " << refused_by[1] << ", " << refused_by[2] << ", " << refused_by[3]);
-  BOOST_TEST(refused_by[1] == 0);
-  BOOST_TEST(refused < trials / 10);
+  BOOST_TEST_MESSAGE(sweeps << " Gauss-Seidel sweeps; " << fallbacks << " problems handed to the fallback, " << unsolved
+                            << " of them without a solution found (the impact then plastic), in " << newton_steps
+                            << " steps; Newton's law checked at " << newton_checked
+                            << " contacts, the slide on the cone's boundary at " << slide_checked << "; "
+                            << std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count()
+                            << " s");
+  BOOST_TEST(refused == 0);
+  BOOST_TEST(unsolved <= 4);  // the two wedged impacts above, with and without zeno_time
   BOOST_TEST(several > 300);
 }
 
