@@ -96,6 +96,36 @@ namespace {
 void write_file(const fs::path& p, const std::string& text) {
   std::ofstream(p) << text;
 }
+// A column of a timeseries.csv, by name.
+std::vector<double> column(const std::string& csv, const std::string& name) {
+  std::istringstream in(csv);
+  std::string header, row;
+  std::getline(in, header);
+  std::istringstream h(header);
+  std::string cell;
+  int k = 0, want = -1;
+  while (std::getline(h, cell, ',')) {
+    if (cell == name) want = k;
+    ++k;
+  }
+  BOOST_REQUIRE(want >= 0);
+  std::vector<double> v;
+  while (std::getline(in, row)) {
+    std::istringstream rs(row);
+    for (int i = 0; i <= want; ++i) std::getline(rs, cell, ',');
+    v.push_back(std::stod(cell));
+  }
+  return v;
+}
+// The rows of an events.csv, its header left out.
+std::vector<std::string> event_rows(const fs::path& events) {
+  std::istringstream in(read(events));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  return rows;
+}
 std::string ball_case(const std::string& model, const std::string& initial, double t_end) {
   return "model = \"" + std::string(PCSIM_SOURCE_DIR) + "/tests/mech/contacts/models/" + model +
          ".toml\"\n[parameters]\ne_n = 0.8\n[initial]\n" + initial +
@@ -273,32 +303,15 @@ BOOST_AUTO_TEST_CASE(a_skidding_coin_case_rolls_from_the_closed_form_instant) {
   const auto& par = s["parameters"];
   const double m = par["m"].get<double>(), rr = par["r"].get<double>(), g = par["g"].get<double>(),
                mu_k = par["mu_k"].get<double>();
-  std::istringstream series(read(out / "timeseries.csv"));
-  std::string header, first, last, row;
-  std::getline(series, header);
-  std::getline(series, first);
-  while (std::getline(series, row)) last = row;
-  auto column = [&](const std::string& line, const std::string& name) {
-    std::vector<std::string> h, v;
-    std::string cell;
-    for (std::istringstream a(header); std::getline(a, cell, ',');) h.push_back(cell);
-    for (std::istringstream b(line); std::getline(b, cell, ',');) v.push_back(cell);
-    const auto at = std::find(h.begin(), h.end(), name) - h.begin();
-    BOOST_REQUIRE(at < static_cast<long>(v.size()));
-    return std::stod(v[at]);
-  };
-  const double e0 = column(first, "coin_e0"), e1 = column(first, "coin_e1"), e2 = column(first, "coin_e2"),
-               e3 = column(first, "coin_e3"), e0d = column(first, "coin_e0_d"), e1d = column(first, "coin_e1_d"),
-               e2d = column(first, "coin_e2_d"), e3d = column(first, "coin_e3_d");
-  const double v0 = column(first, "coin_x_d");
+  const std::string series = read(out / "timeseries.csv");
+  auto first = [&](const char* name) { return column(series, name).front(); };
+  auto last = [&](const char* name) { return column(series, name).back(); };
+  const double e0 = first("coin_e0"), e1 = first("coin_e1"), e2 = first("coin_e2"), e3 = first("coin_e3"),
+               e0d = first("coin_e0_d"), e1d = first("coin_e1_d"), e2d = first("coin_e2_d"), e3d = first("coin_e3_d");
+  const double v0 = first("coin_x_d");
   const double w0 = 2 * (e0 * e2d - e0d * e2 + (e3 * e1d - e1 * e3d));
   BOOST_REQUIRE_MESSAGE(v0 - rr * w0 > 0.0, "the case must start skidding forward: v0 " << v0 << ", r w0 " << rr * w0);
-  const std::string ev = read(out / "events.csv");
-  std::istringstream in(ev);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> rows;
-  while (std::getline(in, line)) rows.push_back(line);
+  const std::vector<std::string> rows = event_rows(out / "events.csv");
   BOOST_REQUIRE_EQUAL(rows.size(), 1u);
   BOOST_TEST(rows[0].find(",stick,bounce_n,slip,stick,") != std::string::npos, rows[0]);
   const double ts = (v0 - rr * w0) / (3 * mu_k * g);
@@ -312,12 +325,12 @@ BOOST_AUTO_TEST_CASE(a_skidding_coin_case_rolls_from_the_closed_form_instant) {
   // (the columns of the sliding rows carry the friction law's multipliers); once it rolls it
   // needs no friction.
   const double N = m * g;
-  BOOST_TEST(std::abs(column(first, "F_bounce_x") + mu_k * N) < 1e-12, first);
-  BOOST_TEST(std::abs(column(first, "F_bounce_y")) < 1e-12, first);
-  BOOST_TEST(std::abs(column(first, "F_bounce_z") - N) < 1e-12, first);
-  BOOST_TEST(std::abs(column(first, "M_bounce_y") - rr * mu_k * N) < 1e-12, first);
-  BOOST_TEST(std::abs(column(last, "F_bounce_x")) < 1e-12, last);
-  BOOST_TEST(std::abs(column(last, "F_bounce_z") - N) < 1e-12, last);
+  BOOST_TEST(std::abs(first("F_bounce_x") + mu_k * N) < 1e-12, first("F_bounce_x"));
+  BOOST_TEST(std::abs(first("F_bounce_y")) < 1e-12, first("F_bounce_y"));
+  BOOST_TEST(std::abs(first("F_bounce_z") - N) < 1e-12, first("F_bounce_z"));
+  BOOST_TEST(std::abs(first("M_bounce_y") - rr * mu_k * N) < 1e-12, first("M_bounce_y"));
+  BOOST_TEST(std::abs(last("F_bounce_x")) < 1e-12, last("F_bounce_x"));
+  BOOST_TEST(std::abs(last("F_bounce_z") - N) < 1e-12, last("F_bounce_z"));
 }
 
 // A 2-D cone's rows are checked before the run (exit 2, nothing written, the rows named): two
@@ -350,29 +363,6 @@ BOOST_AUTO_TEST_CASE(cone_rows_with_different_coefficients_or_three_friction_row
   }
 }
 
-namespace {
-// A column of a timeseries.csv, by name.
-std::vector<double> column(const std::string& csv, const std::string& name) {
-  std::istringstream in(csv);
-  std::string header, row;
-  std::getline(in, header);
-  std::istringstream h(header);
-  std::string cell;
-  int k = 0, want = -1;
-  while (std::getline(h, cell, ',')) {
-    if (cell == name) want = k;
-    ++k;
-  }
-  BOOST_REQUIRE(want >= 0);
-  std::vector<double> v;
-  while (std::getline(in, row)) {
-    std::istringstream rs(row);
-    for (int i = 0; i <= want; ++i) std::getline(rs, cell, ',');
-    v.push_back(std::stod(cell));
-  }
-  return v;
-}
-}  // namespace
 
 // Issue 22: a solid ball (m = 0.5 kg, r = 0.1 m, J = 2/5 m r^2) rolling without slip off the top
 // of a fixed sphere (Rs = 1 m, centred at (300, -200, 80) m; the `ball` joint with surface =
@@ -399,11 +389,7 @@ BOOST_AUTO_TEST_CASE(ball_rolling_off_a_sphere_lifts_off_at_cos_ten_seventeenths
   const fs::path out = dir.path / "off";
   const Result r = pcsim("run '" + (dir.path / "c.toml").string() + "' --out '" + out.string() + "'");
   BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
-  std::istringstream ev(read(out / "events.csv"));
-  std::string line;
-  std::getline(ev, line);
-  std::vector<std::string> lines;
-  while (std::getline(ev, line)) lines.push_back(line);
+  const std::vector<std::string> lines = event_rows(out / "events.csv");
   BOOST_REQUIRE_EQUAL(lines.size(), 1u);
   BOOST_TEST(lines[0].find(",lift_off,roll_n,contact,flight,") != std::string::npos, lines[0]);
   const std::string t_lift = lines[0].substr(0, lines[0].find(','));
@@ -432,11 +418,7 @@ BOOST_AUTO_TEST_CASE(a_disk_in_a_spinning_ring_sticks_once_and_bad_circle_keys_e
   const Result r = pcsim("run cases/disk_ring_bodies.toml --set solver.t_end=0.5 --set output.summary_time=0.4 --out '" +
                          out.string() + "'");
   BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
-  std::istringstream ev(read(out / "events.csv"));
-  std::string line;
-  std::vector<std::string> lines;
-  std::getline(ev, line);
-  while (std::getline(ev, line)) lines.push_back(line);
+  const std::vector<std::string> lines = event_rows(out / "events.csv");
   BOOST_REQUIRE_EQUAL(lines.size(), 1u);
   BOOST_TEST(lines[0].find(",stick,mill_contact,slip,stick,") != std::string::npos, lines[0]);
   const double t_stick = std::stod(lines[0]);
@@ -498,10 +480,8 @@ BOOST_AUTO_TEST_CASE(a_ball_skidding_in_a_bowl_through_the_tangent_chart_switch_
         << "t_end = 0.4\n[output]\ndt = 1.0e-3\n";
     const Result r = pcsim("run '" + (dir.path / (name + "_case.toml")).string() + "' --out '" + (dir.path / name).string() + "'");
     BOOST_REQUIRE_MESSAGE(r.status == 0, r.out);
-    std::istringstream ev(read(dir.path / name / "events.csv"));
-    std::string header, row;
-    std::getline(ev, header);
-    BOOST_TEST(!std::getline(ev, row), name << ": an event " << row);
+    const std::vector<std::string> events = event_rows(dir.path / name / "events.csv");
+    BOOST_TEST(events.empty(), name << ": an event " << (events.empty() ? "" : events[0]));
   }
   const std::string up = read(dir.path / "upright" / "timeseries.csv"), fl = read(dir.path / "flipped" / "timeseries.csv");
   const std::vector<double> cw_up = column(up, "cw"), cw_fl = column(fl, "cw");
